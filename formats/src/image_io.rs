@@ -1,0 +1,156 @@
+//! Writing rendered images: 8-bit PNG and PPM, floating-point EXR and HDR,
+//! chosen by the file extension. Files are written to a temporary name and
+//! renamed, so a failed or interrupted write never leaves a partial image.
+
+use std::io::{self, Write};
+use std::path::Path;
+
+/// A linear RGB image, row-major, top row first.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RgbImage {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// `width * height` pixels.
+    pub pixels: Vec<[f32; 3]>,
+}
+
+/// File kinds by extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ImageKind {
+    /// 8-bit PNG (clamped).
+    Png,
+    /// 8-bit binary PPM (P6, clamped).
+    Ppm,
+    /// OpenEXR, linear 32-bit float.
+    Exr,
+    /// Radiance HDR, linear.
+    Hdr,
+}
+
+impl ImageKind {
+    /// The kind for a path's extension, `None` if unknown.
+    pub fn from_path(path: &Path) -> Option<ImageKind> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        Some(match ext.as_str() {
+            "png" => ImageKind::Png,
+            "ppm" => ImageKind::Ppm,
+            "exr" => ImageKind::Exr,
+            "hdr" => ImageKind::Hdr,
+            _ => return None,
+        })
+    }
+}
+
+/// Linear value to an 8-bit code, clamped, optionally through the sRGB curve.
+#[inline]
+pub fn to_u8(v: f32, srgb: bool) -> u8 {
+    let v = if v.is_nan() { 0.0 } else { v.clamp(0.0, 1.0) };
+    let v = if srgb {
+        if v <= 0.003_130_8 {
+            12.92 * v
+        } else {
+            1.055 * v.powf(1.0 / 2.4) - 0.055
+        }
+    } else {
+        v
+    };
+    (v * 255.0 + 0.5) as u8
+}
+
+impl RgbImage {
+    /// 8-bit RGB bytes.
+    pub fn to_rgb8(&self, srgb: bool) -> Vec<u8> {
+        self.pixels.iter().flat_map(|p| p.map(|c| to_u8(c, srgb))).collect()
+    }
+}
+
+/// Write `img` to `path` in the format its extension names.
+pub fn save(img: &RgbImage, path: &Path, srgb: bool) -> io::Result<()> {
+    let kind = ImageKind::from_path(path).ok_or_else(|| {
+        io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("{}: unknown image extension (use .png, .ppm, .exr or .hdr)", path.display()),
+        )
+    })?;
+    let bytes = encode(img, kind, srgb)?;
+    write_atomically(path, &bytes)
+}
+
+/// Encode to bytes in memory.
+pub fn encode(img: &RgbImage, kind: ImageKind, srgb: bool) -> io::Result<Vec<u8>> {
+    let to_io = |e: image::ImageError| io::Error::other(e.to_string());
+    let mut buf = Vec::new();
+    match kind {
+        ImageKind::Png => {
+            let rgb = image::RgbImage::from_raw(img.width, img.height, img.to_rgb8(srgb))
+                .expect("buffer size matches dimensions");
+            rgb.write_to(&mut io::Cursor::new(&mut buf), image::ImageFormat::Png).map_err(to_io)?;
+        }
+        ImageKind::Ppm => {
+            write!(buf, "P6\n{} {}\n255\n", img.width, img.height)?;
+            buf.extend(img.to_rgb8(srgb));
+        }
+        ImageKind::Exr | ImageKind::Hdr => {
+            let flat: Vec<f32> = img.pixels.iter().flatten().copied().collect();
+            let rgb = image::Rgb32FImage::from_raw(img.width, img.height, flat)
+                .expect("buffer size matches dimensions");
+            let fmt =
+                if kind == ImageKind::Exr { image::ImageFormat::OpenExr } else { image::ImageFormat::Hdr };
+            image::DynamicImage::ImageRgb32F(rgb)
+                .write_to(&mut io::Cursor::new(&mut buf), fmt)
+                .map_err(to_io)?;
+        }
+    }
+    Ok(buf)
+}
+
+/// Write bytes to a sibling temporary file, then rename it over `path`.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let name =
+        path.file_name().ok_or_else(|| io::Error::other(format!("{}: not a file name", path.display())))?;
+    let tmp = dir.join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
+    let result = std::fs::write(&tmp, bytes).and_then(|_| std::fs::rename(&tmp, path));
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn kinds_by_extension() {
+        assert_eq!(ImageKind::from_path(Path::new("a.PNG")), Some(ImageKind::Png));
+        assert_eq!(ImageKind::from_path(Path::new("a.exr")), Some(ImageKind::Exr));
+        assert_eq!(ImageKind::from_path(Path::new("a.jpg")), None);
+    }
+
+    #[test]
+    fn quantisation_clamps_and_rounds() {
+        assert_eq!(to_u8(-1.0, false), 0);
+        assert_eq!(to_u8(2.0, false), 255);
+        assert_eq!(to_u8(0.5, false), 128);
+        assert_eq!(to_u8(f32::NAN, false), 0);
+        assert!(to_u8(0.5, true) > 180);
+    }
+
+    #[test]
+    fn every_kind_writes_and_png_reads_back() {
+        let dir = tempfile::tempdir().unwrap();
+        let img = RgbImage { width: 3, height: 2, pixels: vec![[0.25, 0.5, 1.0]; 6] };
+        for ext in ["png", "ppm", "exr", "hdr"] {
+            let p = dir.path().join(format!("x.{ext}"));
+            save(&img, &p, false).unwrap();
+            assert!(std::fs::metadata(&p).unwrap().len() > 0);
+        }
+        let back = image::open(dir.path().join("x.png")).unwrap().to_rgb8();
+        assert_eq!(back.get_pixel(2, 1).0, [64, 128, 255]);
+        // Only the four images: no temporary file left behind.
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 4);
+    }
+}

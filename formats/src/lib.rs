@@ -1,0 +1,14 @@
+//! nffkit's file layer: the [`Scene`] data model, the NFF reader and writer
+//! ([`nff`]), and image files ([`image_io`]).
+//!
+//! This crate knows nothing about ray tracing. It turns bytes into plain
+//! records (with the source line each came from) and back; the `tracer` crate
+//! builds cameras, shapes and accelerators from those records.
+#![forbid(unsafe_code)]
+#![deny(missing_docs)]
+
+pub mod image_io;
+pub mod nff;
+pub mod scene;
+
+pub use scene::{Color, Light, Material, Primitive, Scene, Shape, SourceLine, View};

@@ -1,0 +1,119 @@
+//! Splits NFF source into tokens with their positions.
+//!
+//! Whitespace (space, tab, CR, LF, form feed, vertical tab) separates tokens;
+//! `#` ends the line as a comment, even in the middle of a token. Any byte
+//! sequence is accepted: a token that is not UTF-8 is reported by the parser
+//! like any other unexpected token.
+
+/// A token: its bytes and where it starts.
+#[derive(Debug, Clone, Copy)]
+pub struct Token<'a> {
+    pub text: &'a [u8],
+    pub line: u32,
+    pub column: u32,
+}
+
+impl Token<'_> {
+    /// The token for messages: lossily decoded and shortened.
+    pub fn display(&self) -> String {
+        let s = String::from_utf8_lossy(self.text);
+        if s.chars().count() > 40 {
+            let short: String = s.chars().take(40).collect();
+            format!("{short}...")
+        } else {
+            s.into_owned()
+        }
+    }
+
+    /// Width in characters, for underlining.
+    pub fn width(&self) -> u32 {
+        char_count(self.text).clamp(1, 200)
+    }
+}
+
+fn char_count(bytes: &[u8]) -> u32 {
+    // UTF-8 continuation bytes are 0b10xx_xxxx; count every other byte.
+    bytes.iter().filter(|&&b| b & 0xC0 != 0x80).count() as u32
+}
+
+/// An iterator over tokens.
+pub struct Lexer<'a> {
+    src: &'a [u8],
+    pos: usize,
+    line: u32,
+    line_start: usize,
+}
+
+impl<'a> Lexer<'a> {
+    pub fn new(src: &'a [u8]) -> Self {
+        Lexer { src, pos: 0, line: 1, line_start: 0 }
+    }
+}
+
+#[inline]
+fn is_space(b: u8) -> bool {
+    matches!(b, b' ' | b'\t' | b'\r' | b'\n' | 0x0b | 0x0c)
+}
+
+impl<'a> Iterator for Lexer<'a> {
+    type Item = Token<'a>;
+
+    #[inline]
+    fn next(&mut self) -> Option<Token<'a>> {
+        let src = self.src;
+        loop {
+            let b = *src.get(self.pos)?;
+            if b == b'\n' {
+                self.pos += 1;
+                self.line += 1;
+                self.line_start = self.pos;
+            } else if is_space(b) {
+                self.pos += 1;
+            } else if b == b'#' {
+                while self.pos < src.len() && src[self.pos] != b'\n' {
+                    self.pos += 1;
+                }
+            } else {
+                break;
+            }
+        }
+        let start = self.pos;
+        while self.pos < src.len() && !is_space(src[self.pos]) && src[self.pos] != b'#' {
+            self.pos += 1;
+        }
+        let column = char_count(&src[self.line_start..start]) + 1;
+        Some(Token { text: &src[start..self.pos], line: self.line, column })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tokens(s: &str) -> Vec<(String, u32, u32)> {
+        Lexer::new(s.as_bytes()).map(|t| (t.display(), t.line, t.column)).collect()
+    }
+
+    #[test]
+    fn splits_on_any_whitespace_and_tracks_positions() {
+        let t = tokens("b 1\t2\r\n  3 # four\n#five\ns");
+        let expect = [("b", 1, 1), ("1", 1, 3), ("2", 1, 5), ("3", 2, 3), ("s", 4, 1)];
+        assert_eq!(t.len(), expect.len());
+        for (got, want) in t.iter().zip(expect) {
+            assert_eq!((got.0.as_str(), got.1, got.2), want);
+        }
+    }
+
+    #[test]
+    fn comment_cuts_a_token() {
+        let t = tokens("1.5#x 2\n3");
+        assert_eq!(t[0].0, "1.5");
+        assert_eq!(t[1].0, "3");
+    }
+
+    #[test]
+    fn columns_count_characters() {
+        let t = tokens("# é\nλλ x");
+        assert_eq!((t[1].1, t[1].2), (2, 4));
+    }
+}

@@ -1,0 +1,17 @@
+//! The Neutral File Format: reading ([`parse`]), writing ([`write`],
+//! [`NffWriter`]) and the diagnostics that point into the source
+//! ([`Diagnostic`]).
+//!
+//! NFF is read as a stream of whitespace-separated tokens, not lines: the SPD
+//! writes a cone on one line where the spec shows three, and real files wrap
+//! polygons freely. `#` starts a comment anywhere on a line.
+
+mod diag;
+mod geometry_checks;
+mod lexer;
+mod parse;
+mod write;
+
+pub use diag::{Diagnostic, Severity};
+pub use parse::{parse, ParseError, ParseOptions, Parsed};
+pub use write::{format_number, write, NffWriter};

@@ -1,0 +1,499 @@
+//! The NFF reader: tokens in, [`Scene`] plus diagnostics out.
+//!
+//! The reader recovers from an error by skipping to the next entity keyword,
+//! so one run reports every broken entity, not just the first.
+
+use super::diag::{Diagnostic, Severity};
+use super::geometry_checks;
+use super::lexer::{Lexer, Token};
+use crate::scene::{Light, Material, Primitive, Scene, Shape, SourceLine, View};
+use glam::DVec3;
+use std::fmt;
+
+/// How strictly to read.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ParseOptions {
+    /// Unknown entities become warnings and are skipped up to the next known
+    /// keyword (for dialect files: `la`, `fp`, mail headers, ...).
+    pub lenient: bool,
+    /// The file is a fragment meant to be appended to another scene, so a
+    /// missing `v` block is not an error.
+    pub fragment: bool,
+}
+
+/// A successfully read scene and its warnings.
+#[derive(Debug, Clone)]
+pub struct Parsed {
+    /// The scene.
+    pub scene: Scene,
+    /// Warnings (never errors), in source order.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// A file that could not be read: every diagnostic found, errors and
+/// warnings, in source order. At least one is an error.
+#[derive(Debug, Clone)]
+pub struct ParseError {
+    /// All diagnostics.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+impl ParseError {
+    /// The first error, the one to show when only one is shown.
+    pub fn first_error(&self) -> &Diagnostic {
+        self.diagnostics
+            .iter()
+            .find(|d| d.severity == Severity::Error)
+            .expect("a ParseError holds at least one error")
+    }
+}
+
+impl fmt::Display for ParseError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let n = self.diagnostics.iter().filter(|d| d.severity == Severity::Error).count();
+        write!(f, "{}", self.first_error())?;
+        if n > 1 {
+            write!(f, " (and {} more errors)", n - 1)?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for ParseError {}
+
+/// Read an NFF scene from bytes. Never panics, whatever the bytes.
+pub fn parse(src: &[u8], opts: &ParseOptions) -> Result<Parsed, ParseError> {
+    let mut p = Parser::new(src, *opts);
+    p.run();
+    p.finish()
+}
+
+/// More errors than this and the reader stops: the file is probably not NFF.
+const MAX_ERRORS: usize = 50;
+/// Largest vertex count accepted for one polygon; beyond it the count is an
+/// error before anything is allocated.
+const MAX_VERTICES: u64 = 1 << 24;
+/// Largest image side accepted in a `resolution` line.
+const MAX_RESOLUTION: u64 = 1 << 16;
+
+const ENTITY_KEYWORDS: [&[u8]; 8] = [b"v", b"b", b"l", b"f", b"c", b"s", b"p", b"pp"];
+const VIEW_KEYWORDS: [&[u8]; 6] = [b"from", b"at", b"up", b"angle", b"hither", b"resolution"];
+
+fn is_entity_keyword(t: &[u8]) -> bool {
+    ENTITY_KEYWORDS.contains(&t)
+}
+
+fn parse_number(text: &[u8]) -> Option<f64> {
+    // Rust's float grammar accepts what C's strtod does for NFF's purposes
+    // (`.5`, `-0`, `1e-16`, `+2`), plus `inf`/`nan`, which are rejected by the
+    // caller with their own message.
+    std::str::from_utf8(text).ok()?.parse::<f64>().ok()
+}
+
+/// The entity being read, for notes on truncated input.
+#[derive(Clone, Copy)]
+struct Entity<'a> {
+    keyword: &'a str,
+    line: u32,
+}
+
+struct Parser<'a> {
+    lexer: Lexer<'a>,
+    peeked: Option<Option<Token<'a>>>,
+    opts: ParseOptions,
+    scene: Scene,
+    diags: Vec<Diagnostic>,
+    errors: usize,
+    first_object_line: Option<u32>,
+    eof: (u32, u32),
+}
+
+type Res<T> = Result<T, Diagnostic>;
+
+impl<'a> Parser<'a> {
+    fn new(src: &'a [u8], opts: ParseOptions) -> Self {
+        let lexer = Lexer::new(src);
+        Parser {
+            lexer,
+            peeked: None,
+            opts,
+            scene: Scene::default(),
+            diags: Vec::new(),
+            errors: 0,
+            first_object_line: None,
+            eof: (1, 1),
+        }
+    }
+
+    fn peek(&mut self) -> Option<Token<'a>> {
+        if self.peeked.is_none() {
+            self.peeked = Some(self.lexer.next());
+        }
+        self.peeked.unwrap()
+    }
+
+    fn bump(&mut self) -> Option<Token<'a>> {
+        let t = match self.peeked.take() {
+            Some(t) => t,
+            None => self.lexer.next(),
+        };
+        if let Some(t) = &t {
+            self.eof = (t.line, t.column + t.width());
+        }
+        t
+    }
+
+    fn diag_at(&self, severity: Severity, t: &Token, message: String) -> Diagnostic {
+        Diagnostic { severity, line: t.line, column: t.column, width: t.width(), message, note: None }
+    }
+
+    fn error_at(&self, t: &Token, message: String) -> Diagnostic {
+        self.diag_at(Severity::Error, t, message)
+    }
+
+    fn warn(&mut self, t: &Token, message: String) {
+        let d = self.diag_at(Severity::Warning, t, message);
+        self.diags.push(d);
+    }
+
+    fn push_error(&mut self, d: Diagnostic) {
+        self.errors += 1;
+        self.diags.push(d);
+    }
+
+    fn eof_error(&self, expected: &str, entity: Entity) -> Diagnostic {
+        Diagnostic {
+            severity: Severity::Error,
+            line: self.eof.0,
+            column: self.eof.1,
+            width: 1,
+            message: format!("unexpected end of file: expected {expected}"),
+            note: Some(format!("the `{}` that starts on line {} is cut short", entity.keyword, entity.line)),
+        }
+    }
+
+    /// Read one number. On a token that is not a number, it is left unread
+    /// (it may be the next entity's keyword) and the error names the entity.
+    fn number(&mut self, what: &str, entity: Entity) -> Res<f64> {
+        let Some(t) = self.peek() else {
+            return Err(self.eof_error(what, entity));
+        };
+        match parse_number(t.text) {
+            Some(v) if v.is_finite() => {
+                self.bump();
+                Ok(v)
+            }
+            Some(_) => {
+                self.bump();
+                Err(self.error_at(&t, format!("expected {what} (a finite number), found `{}`", t.display())))
+            }
+            None => {
+                let mut d = self.error_at(&t, format!("expected {what}, found `{}`", t.display()));
+                if is_entity_keyword(t.text) || t.line != entity.line {
+                    d.note = Some(format!("in the `{}` that starts on line {}", entity.keyword, entity.line));
+                }
+                Err(d)
+            }
+        }
+    }
+
+    fn vec3(&mut self, what: &str, entity: Entity) -> Res<DVec3> {
+        let x = self.number(what, entity)?;
+        let y = self.number(what, entity)?;
+        let z = self.number(what, entity)?;
+        Ok(DVec3::new(x, y, z))
+    }
+
+    /// A whole number in `[min, max]`, returned with its token.
+    fn count(&mut self, what: &str, min: u64, max: u64, entity: Entity) -> Res<(u64, Token<'a>)> {
+        let Some(t) = self.peek() else {
+            return Err(self.eof_error(what, entity));
+        };
+        let text = std::str::from_utf8(t.text).unwrap_or("");
+        let value = text.parse::<u64>().ok().or_else(|| {
+            // Accept `512.0` as written by some exporters, nothing fractional.
+            let f = text.parse::<f64>().ok()?;
+            (f.fract() == 0.0 && f >= 0.0 && f <= u64::MAX as f64).then_some(f as u64)
+        });
+        match value {
+            Some(n) if (min..=max).contains(&n) => {
+                self.bump();
+                Ok((n, t))
+            }
+            Some(n) => {
+                self.bump();
+                let range =
+                    if max == u64::MAX { format!("at least {min}") } else { format!("{min} to {max}") };
+                Err(self.error_at(&t, format!("{what} must be {range}, found {n}")))
+            }
+            None => {
+                if !is_entity_keyword(t.text) {
+                    self.bump();
+                }
+                Err(self.error_at(&t, format!("expected {what} (a whole number), found `{}`", t.display())))
+            }
+        }
+    }
+
+    fn run(&mut self) {
+        let mut first = true;
+        while let Some(t) = self.bump() {
+            if first && t.text == b"nff" {
+                let d = self.error_at(
+                    &t,
+                    "this is a Sense8 NFF file (it begins with `nff` and `version`), a different format \
+                     from Eric Haines' Neutral File Format; it cannot be read"
+                        .into(),
+                );
+                self.push_error(d);
+                return;
+            }
+            first = false;
+            if let Err(d) = self.entity(t) {
+                self.push_error(d);
+                if self.errors >= MAX_ERRORS {
+                    let mut d = self.error_at(&t, "too many errors; giving up".into());
+                    d.note = Some("is this an NFF file?".into());
+                    self.push_error(d);
+                    return;
+                }
+                self.skip_to_keyword();
+            }
+        }
+    }
+
+    fn skip_to_keyword(&mut self) {
+        while let Some(t) = self.peek() {
+            if is_entity_keyword(t.text) {
+                return;
+            }
+            self.bump();
+        }
+    }
+
+    fn entity(&mut self, t: Token<'a>) -> Res<()> {
+        let kw = match std::str::from_utf8(t.text) {
+            Ok(k) if is_entity_keyword(t.text) => k,
+            _ => return self.unknown(t),
+        };
+        let e = Entity { keyword: kw, line: t.line };
+        match kw {
+            "v" => self.view(t, e),
+            "b" => {
+                let c = self.vec3("a colour component", e)?;
+                self.scene.background = Some(c);
+                Ok(())
+            }
+            "l" => self.light(t, e),
+            "f" => self.material(e),
+            "s" => {
+                let center = self.vec3("a sphere centre coordinate", e)?;
+                let radius = self.number("a sphere radius", e)?;
+                if radius == 0.0 {
+                    self.warn(&t, "sphere of radius 0 is invisible".into());
+                }
+                self.object(t, Shape::Sphere { center, radius });
+                Ok(())
+            }
+            "c" => self.cone(t, e),
+            "p" | "pp" => self.polygon(t, e, kw == "pp"),
+            _ => unreachable!("every entity keyword is matched"),
+        }
+    }
+
+    fn unknown(&mut self, t: Token<'a>) -> Res<()> {
+        let msg = format!("unknown entity `{}`", t.display());
+        if self.opts.lenient {
+            let mut d = self.diag_at(Severity::Warning, &t, msg);
+            d.note = Some("skipped up to the next known keyword (--lenient)".into());
+            self.diags.push(d);
+            self.skip_to_keyword();
+            Ok(())
+        } else {
+            let mut d = self.error_at(&t, msg);
+            d.note = Some("NFF entities are v, b, l, f, c, s, p, pp; --lenient skips unknown ones".into());
+            Err(d)
+        }
+    }
+
+    fn object(&mut self, t: Token, shape: Shape) {
+        self.first_object_line.get_or_insert(t.line);
+        let material = self.scene.materials.len().checked_sub(1).map(|m| m as u32);
+        self.scene.primitives.push(Primitive { shape, material, line: SourceLine(t.line) });
+    }
+
+    fn warn_if_after_objects(&mut self, t: &Token, what: &str) {
+        if let Some(line) = self.first_object_line {
+            self.warn(
+                t,
+                format!(
+                    "{what} after the first object (line {line}); the spec requires it before any object"
+                ),
+            );
+        }
+    }
+
+    fn light(&mut self, t: Token<'a>, e: Entity) -> Res<()> {
+        self.warn_if_after_objects(&t, "light");
+        let position = self.vec3("a light position coordinate", e)?;
+        // The colour is optional: present only if a number follows.
+        let has_color = self.peek().is_some_and(|n| parse_number(n.text).is_some());
+        let color = if has_color { Some(self.vec3("a light colour component", e)?) } else { None };
+        self.scene.lights.push(Light { position, color });
+        Ok(())
+    }
+
+    fn material(&mut self, e: Entity) -> Res<()> {
+        const NAMES: [&str; 8] = ["red", "green", "blue", "Kd", "Ks", "Shine", "T", "index of refraction"];
+        let mut v = [0.0; 8];
+        for (i, name) in NAMES.iter().enumerate() {
+            v[i] = self.number(&format!("`f` value {} ({name})", i + 1), e).map_err(|mut d| {
+                d.note = Some(format!(
+                    "`f` takes 8 numbers: red green blue Kd Ks Shine T index_of_refraction; \
+                     the one on line {} has {i}",
+                    e.line
+                ));
+                d
+            })?;
+        }
+        self.scene.materials.push(Material {
+            color: DVec3::new(v[0], v[1], v[2]),
+            kd: v[3],
+            ks: v[4],
+            shine: v[5],
+            t: v[6],
+            ior: v[7],
+        });
+        Ok(())
+    }
+
+    fn cone(&mut self, t: Token<'a>, e: Entity) -> Res<()> {
+        let base = self.vec3("a cone base coordinate", e)?;
+        let base_radius = self.number("the cone base radius", e)?;
+        let apex = self.vec3("a cone apex coordinate", e)?;
+        let apex_radius = self.number("the cone apex radius", e)?;
+        if base == apex {
+            return Err(self.error_at(&t, "cone base and apex are the same point".into()));
+        }
+        if (base_radius < 0.0) != (apex_radius < 0.0) && base_radius != 0.0 && apex_radius != 0.0 {
+            return Err(self.error_at(
+                &t,
+                format!("cone radii {base_radius} and {apex_radius} differ in sign; both negative means inside visible"),
+            ));
+        }
+        if base_radius == 0.0 && apex_radius == 0.0 {
+            self.warn(&t, "cone with both radii 0 is invisible".into());
+        }
+        self.object(t, Shape::Cone { base, base_radius, apex, apex_radius });
+        Ok(())
+    }
+
+    fn polygon(&mut self, t: Token<'a>, e: Entity, patch: bool) -> Res<()> {
+        let (n, count_token) = self.count("a vertex count", 3, MAX_VERTICES, e)?;
+        // Capacity is capped: the count is only a promise until the vertices
+        // are actually read.
+        let cap = n.min(4096) as usize;
+        let mut vertices = Vec::with_capacity(cap);
+        let mut normals = Vec::with_capacity(if patch { cap } else { 0 });
+        for i in 0..n {
+            let what = format!("a coordinate of vertex {} of {n}", i + 1);
+            vertices.push(self.vec3(&what, e)?);
+            if patch {
+                normals.push(self.vec3(&format!("a normal component of vertex {} of {n}", i + 1), e)?);
+            }
+        }
+        let warnings = geometry_checks::polygon(&vertices, if patch { Some(&normals) } else { None });
+        for w in warnings {
+            self.warn(&t, w);
+        }
+        let _ = count_token;
+        let shape = if patch { Shape::Patch { vertices, normals } } else { Shape::Polygon { vertices } };
+        self.object(t, shape);
+        Ok(())
+    }
+
+    fn view(&mut self, t: Token<'a>, e: Entity) -> Res<()> {
+        if self.scene.view.is_some() {
+            self.warn(&t, "second view (`v`); it replaces the first".into());
+        }
+        self.warn_if_after_objects(&t, "view");
+        let mut seen: [Option<Token<'a>>; 6] = [None; 6];
+        let mut vecs = [DVec3::ZERO; 3];
+        let (mut angle, mut hither, mut res) = (0.0, 0.0, [0u32; 2]);
+        while let Some(k) = self.peek() {
+            let Some(i) = VIEW_KEYWORDS.iter().position(|w| *w == k.text) else { break };
+            self.bump();
+            if seen[i].is_some() {
+                self.warn(&k, format!("`{}` given twice in one view; the last one counts", k.display()));
+            }
+            seen[i] = Some(k);
+            match i {
+                0..=2 => vecs[i] = self.vec3(&format!("a `{}` coordinate", k.display()), e)?,
+                3 => angle = self.number("the field of view angle in degrees", e)?,
+                4 => hither = self.number("the hither distance", e)?,
+                _ => {
+                    for r in &mut res {
+                        *r = self.count("a resolution in pixels", 1, MAX_RESOLUTION, e)?.0 as u32;
+                    }
+                }
+            }
+        }
+        for (i, kw) in VIEW_KEYWORDS.iter().enumerate() {
+            if seen[i].is_none() && i != 4 {
+                let mut d =
+                    self.error_at(&t, format!("the view has no `{}` line", String::from_utf8_lossy(kw)));
+                d.note = Some(
+                    "a view is: v, from x y z, at x y z, up x y z, angle deg, hither d, resolution w h"
+                        .into(),
+                );
+                return Err(d);
+            }
+        }
+        if seen[4].is_none() {
+            self.warn(&t, "the view has no `hither` line; using 0".into());
+        }
+        let [from, at, up] = vecs;
+        let at_tok = seen[1].unwrap();
+        if from == at {
+            return Err(self.error_at(&at_tok, "`at` is the same point as `from`: no view direction".into()));
+        }
+        let dir = (at - from).normalize();
+        let up_tok = seen[2].unwrap();
+        if up.length() == 0.0 || up.normalize().cross(dir).length() < 1e-9 {
+            return Err(self.error_at(&up_tok, "`up` is zero or parallel to the view direction".into()));
+        }
+        if !(angle > 0.0 && angle < 180.0) {
+            let angle_tok = seen[3].unwrap();
+            return Err(self
+                .error_at(&angle_tok, format!("`angle` must be between 0 and 180 degrees, found {angle}")));
+        }
+        if hither < 0.0 {
+            self.warn(&seen[4].unwrap(), format!("negative hither {hither}; using 0"));
+            hither = 0.0;
+        }
+        self.scene.view = Some(View { from, at, up, angle, hither, resolution: res });
+        Ok(())
+    }
+
+    fn finish(mut self) -> Result<Parsed, ParseError> {
+        if self.scene.view.is_none() && !self.opts.fragment && self.errors == 0 {
+            self.push_error(Diagnostic {
+                severity: Severity::Error,
+                line: 1,
+                column: 1,
+                width: 1,
+                message: "no view (`v` block): a scene needs a camera".into(),
+                note: Some(
+                    "a file meant to be appended to another scene is a fragment (render --check --fragment)"
+                        .into(),
+                ),
+            });
+        }
+        self.diags.sort_by_key(|d| (d.line, d.column));
+        if self.errors > 0 {
+            Err(ParseError { diagnostics: self.diags })
+        } else {
+            Ok(Parsed { scene: self.scene, diagnostics: self.diags })
+        }
+    }
+}

@@ -1,0 +1,162 @@
+//! The NFF writer. [`NffWriter`] streams entities one at a time (generators
+//! write millions of spheres without holding them); [`write`] writes a whole
+//! [`Scene`].
+
+use crate::scene::{Light, Material, Scene, Shape, View};
+use glam::DVec3;
+use std::io::{self, Write};
+
+/// The shortest text that parses back to exactly `x`: plain decimals for
+/// ordinary magnitudes, C-like exponents (`1.11022e-16`) for tiny and huge
+/// ones.
+pub fn format_number(x: f64) -> String {
+    let a = x.abs();
+    if a == 0.0 || (1e-5..1e15).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// Writes NFF entities in the spec's layout.
+pub struct NffWriter<W: Write> {
+    out: W,
+}
+
+impl<W: Write> NffWriter<W> {
+    /// A writer over any byte sink (wrap files in a `BufWriter`).
+    pub fn new(out: W) -> Self {
+        NffWriter { out }
+    }
+
+    /// The sink back, for flushing or inspection.
+    pub fn into_inner(self) -> W {
+        self.out
+    }
+
+    fn nums(&mut self, xs: &[f64]) -> io::Result<()> {
+        for (i, x) in xs.iter().enumerate() {
+            if i > 0 {
+                self.out.write_all(b" ")?;
+            }
+            self.out.write_all(format_number(*x).as_bytes())?;
+        }
+        self.out.write_all(b"\n")
+    }
+
+    fn vec(&mut self, prefix: &str, v: DVec3) -> io::Result<()> {
+        self.out.write_all(prefix.as_bytes())?;
+        self.nums(&v.to_array())
+    }
+
+    /// A comment line (`# text`); newlines in `text` start new comment lines.
+    pub fn comment(&mut self, text: &str) -> io::Result<()> {
+        for line in text.lines() {
+            writeln!(self.out, "# {line}")?;
+        }
+        Ok(())
+    }
+
+    /// `b r g b`.
+    pub fn background(&mut self, c: DVec3) -> io::Result<()> {
+        self.vec("b ", c)
+    }
+
+    /// The `v` block.
+    pub fn view(&mut self, v: &View) -> io::Result<()> {
+        self.out.write_all(b"v\n")?;
+        self.vec("from ", v.from)?;
+        self.vec("at ", v.at)?;
+        self.vec("up ", v.up)?;
+        self.out.write_all(b"angle ")?;
+        self.nums(&[v.angle])?;
+        self.out.write_all(b"hither ")?;
+        self.nums(&[v.hither])?;
+        writeln!(self.out, "resolution {} {}", v.resolution[0], v.resolution[1])
+    }
+
+    /// `l x y z [r g b]`.
+    pub fn light(&mut self, l: &Light) -> io::Result<()> {
+        match l.color {
+            None => self.vec("l ", l.position),
+            Some(c) => {
+                self.out.write_all(b"l ")?;
+                self.nums(&[l.position.x, l.position.y, l.position.z, c.x, c.y, c.z])
+            }
+        }
+    }
+
+    /// `f r g b Kd Ks Shine T ior`.
+    pub fn material(&mut self, m: &Material) -> io::Result<()> {
+        self.out.write_all(b"f ")?;
+        self.nums(&[m.color.x, m.color.y, m.color.z, m.kd, m.ks, m.shine, m.t, m.ior])
+    }
+
+    /// `s x y z r`.
+    pub fn sphere(&mut self, center: DVec3, radius: f64) -> io::Result<()> {
+        self.out.write_all(b"s ")?;
+        self.nums(&[center.x, center.y, center.z, radius])
+    }
+
+    /// `p n` and one line per vertex.
+    pub fn polygon(&mut self, vertices: &[DVec3]) -> io::Result<()> {
+        writeln!(self.out, "p {}", vertices.len())?;
+        for v in vertices {
+            self.nums(&v.to_array())?;
+        }
+        Ok(())
+    }
+
+    /// `pp n` and one line per vertex with its normal.
+    pub fn patch(&mut self, vertices: &[DVec3], normals: &[DVec3]) -> io::Result<()> {
+        writeln!(self.out, "pp {}", vertices.len())?;
+        for (v, n) in vertices.iter().zip(normals) {
+            self.nums(&[v.x, v.y, v.z, n.x, n.y, n.z])?;
+        }
+        Ok(())
+    }
+
+    /// Any shape. Cones use the spec's three-line layout.
+    pub fn shape(&mut self, s: &Shape) -> io::Result<()> {
+        match s {
+            Shape::Sphere { center, radius } => self.sphere(*center, *radius),
+            Shape::Cone { base, base_radius, apex, apex_radius } => {
+                self.out.write_all(b"c\n")?;
+                self.nums(&[base.x, base.y, base.z, *base_radius])?;
+                self.nums(&[apex.x, apex.y, apex.z, *apex_radius])
+            }
+            Shape::Polygon { vertices } => self.polygon(vertices),
+            Shape::Patch { vertices, normals } => self.patch(vertices, normals),
+        }
+    }
+}
+
+/// Write a whole scene: background, view, lights, then materials and
+/// primitives in order, each `f` line once, before the first primitive that
+/// uses it.
+pub fn write<W: Write>(scene: &Scene, out: W) -> io::Result<W> {
+    let mut w = NffWriter::new(out);
+    if let Some(b) = scene.background {
+        w.background(b)?;
+    }
+    if let Some(v) = &scene.view {
+        w.view(v)?;
+    }
+    for l in &scene.lights {
+        w.light(l)?;
+    }
+    let mut written = 0usize; // materials[..written] are out
+    for p in &scene.primitives {
+        if let Some(m) = p.material {
+            while written <= m as usize {
+                w.material(&scene.materials[written])?;
+                written += 1;
+            }
+        }
+        w.shape(&p.shape)?;
+    }
+    for m in &scene.materials[written.min(scene.materials.len())..] {
+        w.material(m)?;
+    }
+    Ok(w.into_inner())
+}

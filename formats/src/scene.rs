@@ -1,0 +1,206 @@
+//! The scene as the NFF file states it: plain data, close to the text.
+//!
+//! Geometry is kept in `f64` so that a file read and written again gives the
+//! same numbers ([`crate::nff::write`] prints the shortest text that parses back
+//! to the same value).
+
+use glam::DVec3;
+
+/// An RGB triple, nominally in [0, 1].
+pub type Color = DVec3;
+
+/// Where an entity came from in its source file (1-based line; 0 when the
+/// entity was made by a program).
+///
+/// Provenance, not content: two entities that differ only in where they were
+/// read from compare equal, so `parse(write(s)) == s` holds.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct SourceLine(pub u32);
+
+impl PartialEq for SourceLine {
+    fn eq(&self, _other: &Self) -> bool {
+        true
+    }
+}
+
+/// The `v` block: a pinhole camera.
+#[derive(Debug, Clone, PartialEq)]
+pub struct View {
+    /// Eye position.
+    pub from: DVec3,
+    /// Point at the centre of the image.
+    pub at: DVec3,
+    /// Up direction; need not be perpendicular to the view direction.
+    pub up: DVec3,
+    /// Field of view in degrees, between the centres of the outer pixel rows
+    /// (and columns).
+    pub angle: f64,
+    /// Distance of the hither (near clipping) plane from the eye.
+    pub hither: f64,
+    /// Image size in pixels, x then y.
+    pub resolution: [u32; 2],
+}
+
+/// A positional light (`l x y z [r g b]`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Light {
+    /// Position in world space.
+    pub position: DVec3,
+    /// Colour, when the file gives one. Without it the renderer chooses an
+    /// intensity (SPD's exporters use 1/sqrt(number of lights)).
+    pub color: Option<Color>,
+}
+
+/// The `f` line: colour and classic Whitted shading terms.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Material {
+    /// Surface colour.
+    pub color: Color,
+    /// Diffuse weight.
+    pub kd: f64,
+    /// Specular weight (highlights and mirror reflection).
+    pub ks: f64,
+    /// Phong exponent of the highlight.
+    pub shine: f64,
+    /// Transmittance (weight of the refracted ray); T > 0 makes the surface
+    /// two-sided.
+    pub t: f64,
+    /// Index of refraction.
+    pub ior: f64,
+}
+
+impl Default for Material {
+    /// White, fully diffuse: what primitives before any `f` line get.
+    fn default() -> Self {
+        Material { color: DVec3::ONE, kd: 1.0, ks: 0.0, shine: 1.0, t: 0.0, ior: 1.0 }
+    }
+}
+
+/// A geometric primitive as written in the file.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Shape {
+    /// `s`: negative radius means only the inside is visible.
+    Sphere {
+        /// Centre.
+        center: DVec3,
+        /// Radius (negative: inside visible only).
+        radius: f64,
+    },
+    /// `c`: an open cone or cylinder (no end caps). Both radii negative means
+    /// only the inside is visible.
+    Cone {
+        /// Centre of the base disc.
+        base: DVec3,
+        /// Radius at the base.
+        base_radius: f64,
+        /// Centre of the apex disc.
+        apex: DVec3,
+        /// Radius at the apex.
+        apex_radius: f64,
+    },
+    /// `p`: a planar polygon, counter-clockwise seen from its visible side.
+    /// May be concave.
+    Polygon {
+        /// Vertices in order.
+        vertices: Vec<DVec3>,
+    },
+    /// `pp`: a polygonal patch, a polygon with a normal per vertex.
+    Patch {
+        /// Vertices in order.
+        vertices: Vec<DVec3>,
+        /// One normal per vertex.
+        normals: Vec<DVec3>,
+    },
+}
+
+impl Shape {
+    /// The keyword that introduces this shape in NFF.
+    pub fn keyword(&self) -> &'static str {
+        match self {
+            Shape::Sphere { .. } => "s",
+            Shape::Cone { .. } => "c",
+            Shape::Polygon { .. } => "p",
+            Shape::Patch { .. } => "pp",
+        }
+    }
+
+    /// Axis-aligned bounds `(min, max)` of the shape.
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        match self {
+            Shape::Sphere { center, radius } => {
+                let r = DVec3::splat(radius.abs());
+                (*center - r, *center + r)
+            }
+            Shape::Cone { base, base_radius, apex, apex_radius } => {
+                let rb = DVec3::splat(base_radius.abs());
+                let ra = DVec3::splat(apex_radius.abs());
+                ((*base - rb).min(*apex - ra), (*base + rb).max(*apex + ra))
+            }
+            Shape::Polygon { vertices } | Shape::Patch { vertices, .. } => {
+                let mut lo = DVec3::splat(f64::INFINITY);
+                let mut hi = DVec3::splat(f64::NEG_INFINITY);
+                for v in vertices {
+                    lo = lo.min(*v);
+                    hi = hi.max(*v);
+                }
+                (lo, hi)
+            }
+        }
+    }
+}
+
+/// A shape with the material it was given.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Primitive {
+    /// The geometry.
+    pub shape: Shape,
+    /// Index into [`Scene::materials`]; `None` before the file's first `f`.
+    pub material: Option<u32>,
+    /// Where it was read from.
+    pub line: SourceLine,
+}
+
+/// A whole NFF scene (or a fragment of one, when `view` is `None`).
+///
+/// Invariant kept by the reader: primitives' material indices never decrease
+/// (each `f` line starts a new material that applies until the next one).
+/// [`crate::nff::write`] relies on it to write each `f` line once.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Scene {
+    /// The camera, absent in a fragment.
+    pub view: Option<View>,
+    /// Background colour; `None` means the file gave none (black).
+    pub background: Option<Color>,
+    /// Lights in file order.
+    pub lights: Vec<Light>,
+    /// Materials in file order, one per `f` line.
+    pub materials: Vec<Material>,
+    /// Primitives in file order.
+    pub primitives: Vec<Primitive>,
+}
+
+impl Scene {
+    /// The material of a primitive, the default one before any `f` line.
+    pub fn material_of(&self, prim: &Primitive) -> Material {
+        prim.material.map(|m| self.materials[m as usize].clone()).unwrap_or_default()
+    }
+
+    /// Bounds of all primitives, `None` for a scene without any.
+    pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        self.primitives.iter().map(|p| p.shape.bounds()).reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
+    }
+
+    /// Count of primitives by kind: spheres, cones, polygons, patches.
+    pub fn counts(&self) -> [usize; 4] {
+        let mut n = [0; 4];
+        for p in &self.primitives {
+            n[match p.shape {
+                Shape::Sphere { .. } => 0,
+                Shape::Cone { .. } => 1,
+                Shape::Polygon { .. } => 2,
+                Shape::Patch { .. } => 3,
+            }] += 1;
+        }
+        n
+    }
+}

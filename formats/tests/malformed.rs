@@ -1,0 +1,171 @@
+//! Malformed input: each case names the exact line and column of the first
+//! error and what the message must say.
+
+use nffkit_formats::nff::{self, ParseOptions, Severity};
+
+const VIEW: &str = "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 8 8\n";
+
+fn first_error(src: &str) -> nff::Diagnostic {
+    match nff::parse(src.as_bytes(), &ParseOptions::default()) {
+        Ok(_) => panic!("accepted:\n{src}"),
+        Err(e) => e.first_error().clone(),
+    }
+}
+
+fn expect(src: &str, line: u32, column: u32, needle: &str) {
+    let d = first_error(src);
+    assert_eq!((d.line, d.column), (line, column), "{d}\n--- source ---\n{src}");
+    let text = format!("{} {}", d.message, d.note.clone().unwrap_or_default());
+    assert!(text.contains(needle), "`{needle}` not in `{text}`");
+}
+
+#[test]
+fn glued_numbers() {
+    expect("b 0.0780.3610.753\n", 1, 3, "expected a colour component, found `0.0780.3610.753`");
+}
+
+#[test]
+fn truncated_polygon_names_its_first_line() {
+    let src = format!("{VIEW}p 4\n0 0 0\n1 0 0\n1 1 0\n");
+    expect(&src, 11, 6, "the `p` that starts on line 8");
+}
+
+#[test]
+fn polygon_cut_short_by_the_next_entity() {
+    let src = format!("{VIEW}p 4\n0 0 0\n1 0 0\n1 1 0\ns 0 0 0 1\n");
+    expect(&src, 12, 1, "expected a coordinate of vertex 4 of 4, found `s`");
+}
+
+#[test]
+fn absurd_vertex_count_is_refused_without_allocating() {
+    let src = format!("{VIEW}p 4000000000\n0 0 0\n");
+    expect(&src, 8, 3, "vertex count must be 3 to");
+}
+
+#[test]
+fn negative_and_small_counts() {
+    expect(&format!("{VIEW}p -3\n"), 8, 3, "expected a vertex count (a whole number), found `-3`");
+    expect(&format!("{VIEW}p 2\n0 0 0\n1 1 1\n"), 8, 3, "found 2");
+}
+
+#[test]
+fn non_finite_numbers() {
+    expect(&format!("{VIEW}s 0 0 nan 1\n"), 8, 7, "finite");
+    expect(&format!("{VIEW}s 0 inf 0 1\n"), 8, 5, "finite");
+}
+
+#[test]
+fn view_errors_point_at_the_offending_line() {
+    expect("v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 0 8\n", 7, 12, "resolution");
+    expect(
+        "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 180\nhither 1\nresolution 8 8\n",
+        5,
+        1,
+        "between 0 and 180",
+    );
+    expect(
+        "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 0\nhither 1\nresolution 8 8\n",
+        5,
+        1,
+        "between 0 and 180",
+    );
+    expect("v\nfrom 1 2 3\nat 1 2 3\nup 0 1 0\nangle 45\nhither 1\nresolution 8 8\n", 3, 1, "same point");
+    expect("v\nfrom 0 0 5\nat 0 0 0\nup 0 0 2\nangle 45\nhither 1\nresolution 8 8\n", 4, 1, "parallel");
+    expect("v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nhither 1\nresolution 8 8\n", 1, 1, "no `angle`");
+}
+
+#[test]
+fn short_material() {
+    let src = format!("{VIEW}f 1 0 0 0.5 0.5 3\ns 0 0 0 1\n");
+    expect(&src, 9, 1, "has 6");
+}
+
+#[test]
+fn unknown_keyword_is_an_error_unless_lenient() {
+    let src = format!("{VIEW}la 1 2 3\ns 0 0 0 1\n");
+    expect(&src, 8, 1, "unknown entity `la`");
+    let parsed = nff::parse(src.as_bytes(), &ParseOptions { lenient: true, ..Default::default() }).unwrap();
+    assert_eq!(parsed.scene.primitives.len(), 1);
+    assert_eq!(parsed.diagnostics[0].severity, Severity::Warning);
+    assert_eq!(parsed.diagnostics[0].line, 8);
+}
+
+#[test]
+fn lenient_skips_mail_headers_and_dialect_lines() {
+    let src = format!(
+        "From: someone@example.com\nSubject: a scene\n\n{VIEW}tess 3\ndod 1 2\ng 0 0 0 1 1 1\nfp 0 0 0\nQ 4\ns 0 0 0 1\n"
+    );
+    let parsed = nff::parse(src.as_bytes(), &ParseOptions { lenient: true, ..Default::default() }).unwrap();
+    assert_eq!(parsed.scene.primitives.len(), 1);
+    assert!(parsed.scene.view.is_some());
+}
+
+#[test]
+fn missing_view_is_an_error_except_for_fragments() {
+    expect("s 0 0 0 1\n", 1, 1, "no view");
+    let frag = nff::parse(b"s 0 0 0 1\n", &ParseOptions { fragment: true, ..Default::default() });
+    assert_eq!(frag.unwrap().scene.primitives.len(), 1);
+}
+
+#[test]
+fn sense8_nff_is_recognised() {
+    expect("nff\nversion 2.0\ncube\n8\n", 1, 1, "Sense8");
+}
+
+#[test]
+fn cone_errors() {
+    expect(&format!("{VIEW}c\n0 0 0 1\n0 0 0 0.5\n"), 8, 1, "same point");
+    expect(&format!("{VIEW}c\n0 0 0 1\n0 0 1 -0.5\n"), 8, 1, "differ in sign");
+}
+
+#[test]
+fn every_error_is_reported_not_just_the_first() {
+    let src = format!("{VIEW}s 0 0 x 1\ns 0 0 0 1\ns y 0 0 1\n");
+    let err = nff::parse(src.as_bytes(), &ParseOptions::default()).unwrap_err();
+    let lines: Vec<u32> =
+        err.diagnostics.iter().filter(|d| d.severity == Severity::Error).map(|d| d.line).collect();
+    assert_eq!(lines, vec![8, 10]);
+}
+
+#[test]
+fn crlf_tabs_and_comments_anywhere() {
+    let src = "b 0 0 0 # sky\r\nv\r\nfrom\t0 0 5\r\nat 0 0 0 #look\r\nup 0 1 0\r\nangle 45\r\nhither 1\r\nresolution 8 8\r\n\
+               c 0 0 0 .5 0 0 1 -0   # one-line cone\r\ns 1.11022e-16 -0 .5 +2\r\n";
+    let scene = nff::parse(src.as_bytes(), &ParseOptions::default()).unwrap().scene;
+    assert_eq!(scene.primitives.len(), 2);
+    assert_eq!(scene.primitives[1].line.0, 10);
+}
+
+#[test]
+fn suspicious_geometry_is_a_warning_with_its_line() {
+    let src = format!("{VIEW}p 4\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n");
+    let parsed = nff::parse(src.as_bytes(), &ParseOptions::default()).unwrap();
+    let w = &parsed.diagnostics[0];
+    assert_eq!((w.severity, w.line), (Severity::Warning, 8));
+    assert!(w.message.contains("crosses itself"), "{w}");
+}
+
+#[test]
+fn light_after_objects_warns() {
+    let src = format!("{VIEW}s 0 0 0 1\nl 1 1 1\n");
+    let parsed = nff::parse(src.as_bytes(), &ParseOptions::default()).unwrap();
+    assert!(parsed.diagnostics.iter().any(|d| d.line == 9 && d.message.contains("spec requires")));
+}
+
+#[test]
+fn diagnostics_render_like_a_compiler() {
+    let src = "b 0.0780.3610.753\n";
+    let d = first_error(src);
+    let text = d.render("scene.nff", src.as_bytes());
+    assert!(text.contains("--> scene.nff:1:3"), "{text}");
+    assert!(text.contains("1 | b 0.0780.3610.753"), "{text}");
+    assert!(text.contains("  ^^^^^^^^^^^^^^^"), "{text}");
+}
+
+#[test]
+fn empty_and_comment_only_files_are_errors_not_panics() {
+    for src in ["", "   \n\n", "# just a comment\n"] {
+        let d = first_error(src);
+        assert!(d.message.contains("no view"));
+    }
+}

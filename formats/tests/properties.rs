@@ -1,0 +1,118 @@
+//! Property tests: the reader never panics on any bytes, and the writer
+//! round-trips any scene exactly.
+
+use glam::DVec3;
+use nffkit_formats::nff::{self, ParseOptions};
+use nffkit_formats::{Light, Material, Primitive, Scene, Shape, SourceLine, View};
+use proptest::prelude::*;
+
+fn num() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        -1e6..1e6f64,
+        (-10i32..10).prop_map(|i| i as f64),
+        prop::num::f64::NORMAL,
+        Just(-0.0),
+        Just(1.11022e-16),
+    ]
+}
+
+fn vec3() -> impl Strategy<Value = DVec3> {
+    (num(), num(), num()).prop_map(|(x, y, z)| DVec3::new(x, y, z))
+}
+
+fn shape() -> impl Strategy<Value = Shape> {
+    prop_oneof![
+        (vec3(), num()).prop_map(|(center, radius)| Shape::Sphere { center, radius }),
+        (vec3(), 0.0..5.0f64, vec3(), 0.0..5.0f64).prop_map(|(base, br, apex, ar)| Shape::Cone {
+            base,
+            base_radius: br,
+            apex: apex + DVec3::new(0.0, 0.0, 7.0e7),
+            apex_radius: ar
+        }),
+        prop::collection::vec(vec3(), 3..8).prop_map(|vertices| Shape::Polygon { vertices }),
+        prop::collection::vec((vec3(), vec3()), 3..6).prop_map(|vn| Shape::Patch {
+            vertices: vn.iter().map(|p| p.0).collect(),
+            normals: vn.iter().map(|p| p.1).collect(),
+        }),
+    ]
+}
+
+fn material() -> impl Strategy<Value = Material> {
+    (vec3(), num(), num(), num(), num(), num()).prop_map(|(color, kd, ks, shine, t, ior)| Material {
+        color,
+        kd,
+        ks,
+        shine,
+        t,
+        ior,
+    })
+}
+
+prop_compose! {
+    fn scene()(
+        background in prop::option::of(vec3()),
+        lights in prop::collection::vec((vec3(), prop::option::of(vec3())), 0..4),
+        materials in prop::collection::vec(material(), 0..4),
+        shapes in prop::collection::vec((shape(), 0u32..8), 0..12),
+        angle in 1.0..179.0f64,
+        hither in 0.0..10.0f64,
+        res in (1u32..4000, 1u32..4000),
+    ) -> Scene {
+        let view = View {
+            from: DVec3::new(1.5, -2.0, 3.25), at: DVec3::ZERO, up: DVec3::Z,
+            angle, hither, resolution: [res.0, res.1],
+        };
+        // Material indices never decrease, as in any file (see Scene's invariant).
+        let mut sorted: Vec<u32> = shapes.iter().map(|s| s.1).collect();
+        sorted.sort();
+        let primitives = shapes.into_iter().zip(sorted).map(|((shape, _), m)| Primitive {
+            shape,
+            material: if materials.is_empty() || m == 0 { None } else { Some((m - 1) % materials.len() as u32) },
+            line: SourceLine(0),
+        }).collect::<Vec<_>>();
+        // Keep indices monotone after the modulo.
+        let mut last = None;
+        let primitives = primitives.into_iter().map(|mut p| {
+            if p.material < last { p.material = last; }
+            last = p.material;
+            p
+        }).collect();
+        Scene {
+            view: Some(view), background,
+            lights: lights.into_iter().map(|(position, color)| Light { position, color }).collect(),
+            materials, primitives,
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    #[test]
+    fn write_then_parse_is_identity(s in scene()) {
+        let text = nff::write(&s, Vec::new()).unwrap();
+        let back = nff::parse(&text, &ParseOptions::default());
+        let back = back.map_err(|e| TestCaseError::fail(format!("{e}\n{}", String::from_utf8_lossy(&text))))?;
+        prop_assert_eq!(back.scene, s);
+    }
+
+    #[test]
+    fn arbitrary_bytes_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..512)) {
+        let _ = nff::parse(&bytes, &ParseOptions::default());
+        let _ = nff::parse(&bytes, &ParseOptions { lenient: true, fragment: true });
+    }
+
+    #[test]
+    fn nff_like_token_soup_never_panics(
+        toks in prop::collection::vec(prop_oneof![
+            Just("v"), Just("b"), Just("l"), Just("f"), Just("c"), Just("s"), Just("p"), Just("pp"),
+            Just("from"), Just("at"), Just("up"), Just("angle"), Just("hither"), Just("resolution"),
+            Just("0"), Just("1"), Just("-1"), Just("3"), Just("1e300"), Just("nan"), Just("#"), Just("\n"),
+            Just("4000000000"), Just(".5"), Just("x"),
+        ], 0..200)
+    ) {
+        let src = toks.join(" ");
+        let _ = nff::parse(src.as_bytes(), &ParseOptions::default());
+        let _ = nff::parse(src.as_bytes(), &ParseOptions { lenient: true, fragment: true });
+    }
+}

@@ -1,0 +1,114 @@
+//! `render --check`: validate NFF files and summarise what they hold.
+
+use nffkit_formats::nff::{self, ParseOptions, Severity};
+use nffkit_formats::Scene;
+use std::fmt::Write as _;
+
+/// The outcome of checking one file.
+pub struct CheckReport {
+    /// Every diagnostic, rendered compiler-style.
+    pub diagnostics: String,
+    /// One line: counts of entities, primitives, lights, bounds.
+    pub summary: String,
+    /// Errors found (0 means the file is valid).
+    pub errors: usize,
+}
+
+/// Check one file's bytes, `name` being how it is shown in messages.
+pub fn check_source(name: &str, src: &[u8], opts: &ParseOptions) -> CheckReport {
+    let mut diagnostics = String::new();
+    match nff::parse(src, opts) {
+        Ok(parsed) => {
+            for d in &parsed.diagnostics {
+                diagnostics += &d.render(name, src);
+            }
+            let warnings = parsed.diagnostics.len();
+            CheckReport { diagnostics, summary: summary(name, &parsed.scene, warnings), errors: 0 }
+        }
+        Err(e) => {
+            for d in &e.diagnostics {
+                diagnostics += &d.render(name, src);
+            }
+            let errors = e.diagnostics.iter().filter(|d| d.severity == Severity::Error).count();
+            let warnings = e.diagnostics.len() - errors;
+            let summary = format!(
+                "{name}: INVALID, {errors} error{}, {warnings} warning{}",
+                plural(errors),
+                plural(warnings)
+            );
+            CheckReport { diagnostics, summary, errors }
+        }
+    }
+}
+
+fn plural(n: usize) -> &'static str {
+    if n == 1 {
+        ""
+    } else {
+        "s"
+    }
+}
+
+fn summary(name: &str, scene: &Scene, warnings: usize) -> String {
+    let [s, c, p, pp] = scene.counts();
+    let total = s + c + p + pp;
+    let mut out = format!("{name}: ok, ");
+    if let Some(v) = &scene.view {
+        let _ = write!(out, "view {}x{}, ", v.resolution[0], v.resolution[1]);
+    } else {
+        out += "fragment (no view), ";
+    }
+    let _ = write!(
+        out,
+        "{} light{}, {} material{}, {total} primitive{}",
+        scene.lights.len(),
+        plural(scene.lights.len()),
+        scene.materials.len(),
+        plural(scene.materials.len()),
+        plural(total)
+    );
+    let kinds: Vec<String> = [(s, "sphere"), (c, "cone"), (p, "polygon"), (pp, "patch")]
+        .iter()
+        .filter(|(n, _)| *n > 0)
+        .map(|(n, k)| format!("{n} {k}{}", if *k == "patch" && *n != 1 { "es" } else { plural(*n) }))
+        .collect();
+    if !kinds.is_empty() {
+        let _ = write!(out, " ({})", kinds.join(", "));
+    }
+    if let Some((lo, hi)) = scene.bounds() {
+        let _ = write!(
+            out,
+            ", bounds ({:.4}, {:.4}, {:.4})..({:.4}, {:.4}, {:.4})",
+            lo.x, lo.y, lo.z, hi.x, hi.y, hi.z
+        );
+    }
+    let _ = write!(out, ", {warnings} warning{}", plural(warnings));
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn summary_counts_kinds() {
+        let src = b"v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 8 8\nl 1 1 1\n\
+                    s 0 0 0 1\ns 1 1 1 1\nc 0 0 0 1 0 0 1 1\n";
+        let r = check_source("t.nff", src, &ParseOptions::default());
+        assert_eq!(r.errors, 0);
+        assert!(r.summary.contains("3 primitives (2 spheres, 1 cone)"), "{}", r.summary);
+        assert!(
+            r.summary.contains("bounds (-1.0000, -1.0000, -1.0000)..(2.0000, 2.0000, 2.0000)"),
+            "{}",
+            r.summary
+        );
+    }
+
+    #[test]
+    fn invalid_file_counts_errors() {
+        let r = check_source("t.nff", b"b 1 2\n", &ParseOptions::default());
+        assert_eq!(r.errors, 1);
+        assert!(r.summary.contains("INVALID"));
+        assert!(r.diagnostics.contains("t.nff:"));
+    }
+}

@@ -1,0 +1,7 @@
+//! The library behind nffkit's command-line tools. Binaries in `src/bin/` are
+//! thin shells of argument parsing over these functions, so tests and other
+//! tools call exactly the same code.
+#![forbid(unsafe_code)]
+
+pub mod check;
+pub mod input;
