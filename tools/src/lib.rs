@@ -4,4 +4,8 @@
 #![forbid(unsafe_code)]
 
 pub mod check;
+pub mod default_scene;
 pub mod input;
+pub mod planegen;
+pub mod render_cli;
+pub mod sphereflake;

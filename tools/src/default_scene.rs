@@ -1,0 +1,10 @@
+//! The scene `render` draws when given no file: a level-3 sphereflake over a
+//! checkerboard, made by the project's own generators.
+
+use crate::sphereflake::{Floor, Sphereflake};
+use nffkit_formats::Scene;
+
+/// The built-in default scene.
+pub fn default_scene() -> Scene {
+    Sphereflake { level: 3, resolution: [512, 512], floor: Floor::Checker(12, 12) }.scene()
+}

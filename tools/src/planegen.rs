@@ -1,0 +1,217 @@
+//! The checkerboard plane (seed §4.3): an XY-aligned board of `p 4` squares
+//! in two colours, as a whole scene or added to an existing one.
+
+use anyhow::{bail, Result};
+use glam::{DVec2, DVec3};
+use nffkit_formats::{Light, Material, Primitive, Scene, Shape, SourceLine, View};
+
+/// The board's parameters.
+#[derive(Debug, Clone)]
+pub struct Board {
+    /// Squares along x.
+    pub nx: u32,
+    /// Squares along y.
+    pub ny: u32,
+    /// Total size along x.
+    pub sx: f64,
+    /// Total size along y.
+    pub sy: f64,
+    /// Colour of the square at the (−x, −y) corner and every other one.
+    pub c1: DVec3,
+    /// The other colour.
+    pub c2: DVec3,
+    /// Height of the plane.
+    pub z: f64,
+    /// Centre of the board in x and y.
+    pub center: DVec2,
+    /// Diffuse weight of the squares.
+    pub kd: f64,
+    /// Specular weight.
+    pub ks: f64,
+    /// Phong exponent.
+    pub shine: f64,
+}
+
+impl Default for Board {
+    fn default() -> Self {
+        Board {
+            nx: 16,
+            ny: 16,
+            sx: 8.0,
+            sy: 8.0,
+            c1: DVec3::splat(0.95),
+            c2: DVec3::new(0.1, 0.1, 0.12),
+            z: 0.0,
+            center: DVec2::ZERO,
+            kd: 1.0,
+            ks: 0.0,
+            shine: 1.0,
+        }
+    }
+}
+
+impl Board {
+    /// Refuse boards that make no sense, saying which option is wrong.
+    pub fn validate(&self) -> Result<()> {
+        if self.nx == 0 || self.ny == 0 {
+            bail!("--nx and --ny must be at least 1 (got {} and {})", self.nx, self.ny);
+        }
+        if self.nx as u64 * self.ny as u64 > 50_000_000 {
+            bail!("{}x{} squares is too many (at most 50 million)", self.nx, self.ny);
+        }
+        if !(self.sx > 0.0 && self.sy > 0.0 && self.sx.is_finite() && self.sy.is_finite()) {
+            bail!("--sx and --sy must be positive (got {} and {})", self.sx, self.sy);
+        }
+        for (name, c) in [("--c1", self.c1), ("--c2", self.c2)] {
+            if !c.to_array().iter().all(|v| (0.0..=1.0).contains(v)) {
+                bail!("{name} components must be between 0 and 1 (got {},{},{})", c.x, c.y, c.z);
+            }
+        }
+        for (name, v) in [("--kd", self.kd), ("--ks", self.ks), ("--shine", self.shine), ("--z", self.z)] {
+            if !v.is_finite() || (name != "--z" && v < 0.0) {
+                bail!("{name} must be a finite, non-negative number (got {v})");
+            }
+        }
+        if !self.center.is_finite() {
+            bail!("--center must be finite");
+        }
+        Ok(())
+    }
+
+    /// The two materials, colour 1 then colour 2.
+    pub fn materials(&self) -> [Material; 2] {
+        let m = |color| Material { color, kd: self.kd, ks: self.ks, shine: self.shine, t: 0.0, ior: 1.0 };
+        [m(self.c1), m(self.c2)]
+    }
+
+    /// The squares of one colour (0 or 1), each counter-clockwise seen from
+    /// +z, starting at its (−x, −y) corner.
+    pub fn squares(&self, colour: u32) -> impl Iterator<Item = [DVec3; 4]> + '_ {
+        let (dx, dy) = (self.sx / self.nx as f64, self.sy / self.ny as f64);
+        let x0 = self.center.x - self.sx / 2.0;
+        let y0 = self.center.y - self.sy / 2.0;
+        (0..self.ny).flat_map(move |j| {
+            (0..self.nx).filter(move |i| (i + j) % 2 == colour).map(move |i| {
+                // Corners from the index, not by accumulation: shared edges
+                // get bit-identical coordinates.
+                let xa = x0 + i as f64 * dx;
+                let xb = x0 + (i + 1) as f64 * dx;
+                let ya = y0 + j as f64 * dy;
+                let yb = y0 + (j + 1) as f64 * dy;
+                let z = self.z;
+                [DVec3::new(xa, ya, z), DVec3::new(xb, ya, z), DVec3::new(xb, yb, z), DVec3::new(xa, yb, z)]
+            })
+        })
+    }
+
+    /// Append the board to `scene`: its two materials, each followed by its
+    /// squares (each colour's `f` line once).
+    pub fn add_to(&self, scene: &mut Scene) {
+        for (colour, m) in self.materials().into_iter().enumerate() {
+            let index = scene.materials.len() as u32;
+            scene.materials.push(m);
+            for vertices in self.squares(colour as u32) {
+                scene.primitives.push(Primitive {
+                    shape: Shape::Polygon { vertices: vertices.to_vec() },
+                    material: Some(index),
+                    line: SourceLine(0),
+                });
+            }
+        }
+    }
+
+    /// A whole scene: the board, an oblique view that shows aliasing, one
+    /// light and the SPD's sky-blue background.
+    pub fn scene(&self) -> Scene {
+        let c = DVec3::new(self.center.x, self.center.y, self.z);
+        let size = self.sx.max(self.sy);
+        let view = View {
+            from: c + DVec3::new(0.0, -0.62 * size, 0.16 * size),
+            at: c + DVec3::new(0.0, 0.2 * size, 0.0),
+            up: DVec3::Z,
+            angle: 45.0,
+            hither: 0.001 * size,
+            resolution: [512, 512],
+        };
+        let mut scene = Scene {
+            view: Some(view),
+            background: Some(DVec3::new(0.078, 0.361, 0.753)),
+            lights: vec![Light {
+                position: c + DVec3::new(0.25 * size, -0.4 * size, 0.8 * size),
+                color: None,
+            }],
+            ..Default::default()
+        };
+        self.add_to(&mut scene);
+        scene
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nffkit_formats::nff::{self, ParseOptions};
+
+    #[test]
+    fn square_count_and_alternating_colours() {
+        let b = Board { nx: 5, ny: 3, ..Default::default() };
+        let s = b.scene();
+        assert_eq!(s.primitives.len(), 15);
+        assert_eq!(s.materials.len(), 2);
+        assert_eq!(b.squares(0).count(), 8);
+        assert_eq!(b.squares(1).count(), 7);
+        // Neighbours differ in colour: the square right of a colour-0 square
+        // starts where it ends and is colour 1.
+        let first0 = b.squares(0).next().unwrap();
+        let first1 = b.squares(1).next().unwrap();
+        assert_eq!(first0[1], first1[0]);
+    }
+
+    #[test]
+    fn squares_are_ccw_from_above_and_fill_the_board() {
+        let b = Board {
+            nx: 4,
+            ny: 6,
+            sx: 2.0,
+            sy: 3.0,
+            center: DVec2::new(1.0, -1.0),
+            z: 0.5,
+            ..Default::default()
+        };
+        let mut lo = DVec3::splat(f64::INFINITY);
+        let mut hi = DVec3::splat(f64::NEG_INFINITY);
+        let mut area = 0.0;
+        for c in 0..2 {
+            for q in b.squares(c) {
+                let n = (q[1] - q[0]).cross(q[2] - q[1]);
+                assert!(n.z > 0.0, "counter-clockwise from +z");
+                area += n.z;
+                for v in q {
+                    lo = lo.min(v);
+                    hi = hi.max(v);
+                }
+            }
+        }
+        assert_eq!(lo, DVec3::new(0.0, -2.5, 0.5));
+        assert_eq!(hi, DVec3::new(2.0, 0.5, 0.5));
+        assert!((area - 6.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn written_scene_parses_without_diagnostics() {
+        let text = nff::write(&Board::default().scene(), Vec::new()).unwrap();
+        let parsed = nff::parse(&text, &ParseOptions::default()).unwrap();
+        assert!(parsed.diagnostics.is_empty(), "{:?}", parsed.diagnostics);
+        // Each colour's material is written once.
+        let fs = String::from_utf8(text).unwrap().lines().filter(|l| l.starts_with("f ")).count();
+        assert_eq!(fs, 2);
+    }
+
+    #[test]
+    fn bad_boards_are_refused() {
+        assert!(Board { nx: 0, ..Default::default() }.validate().is_err());
+        assert!(Board { sx: -1.0, ..Default::default() }.validate().is_err());
+        assert!(Board { c1: DVec3::new(1.5, 0.0, 0.0), ..Default::default() }.validate().is_err());
+        assert!(Board::default().validate().is_ok());
+    }
+}

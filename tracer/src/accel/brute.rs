@@ -1,0 +1,36 @@
+//! No acceleration: every ray tests every primitive. The reference the other
+//! structures are checked against, and the baseline of the seed's Table 1.
+
+use super::{test_prim, test_shadow, Intersector};
+use crate::geometry::{Geometry, Hit};
+use crate::math::RayQuery;
+use crate::stats::Counters;
+
+/// Brute force.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct BruteForce;
+
+impl Intersector for BruteForce {
+    type Scratch = ();
+
+    fn scratch(&self, _: &Geometry) {}
+
+    fn intersect(
+        &self,
+        geom: &Geometry,
+        q: &RayQuery,
+        t_max: f32,
+        _: &mut (),
+        c: &mut Counters,
+    ) -> Option<Hit> {
+        let mut best = None;
+        for id in 0..geom.len() as u32 {
+            test_prim(geom, id, q, &mut best, t_max, c);
+        }
+        best
+    }
+
+    fn occluded(&self, geom: &Geometry, q: &RayQuery, t_max: f32, _: &mut (), c: &mut Counters) -> bool {
+        (0..geom.len() as u32).any(|id| test_shadow(geom, id, q, t_max, c))
+    }
+}

@@ -1,0 +1,339 @@
+//! A bounding volume hierarchy: binned surface-area-heuristic build,
+//! flattened depth-first into 32-byte nodes with `u32` links, traversed near
+//! child first with a fixed-size stack.
+//!
+//! Layout: the first child of an interior node is the next node in the
+//! array; `link` holds the second. A leaf's `link` is the start of its
+//! primitives in [`Bvh::prims`] and `count` their number (interior nodes
+//! have count 0).
+
+use super::{test_prim, test_shadow, AccelInfo, Intersector};
+use crate::aabb::Aabb;
+use crate::geometry::{Geometry, Hit};
+use crate::math::RayQuery;
+use crate::stats::Counters;
+use glam::Vec3A;
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// One node, 32 bytes: bounds, link, primitive count.
+#[derive(Debug, Clone, Copy)]
+#[repr(C)]
+pub struct BvhNode {
+    min: [f32; 3],
+    link: u32,
+    max: [f32; 3],
+    count: u32,
+}
+
+const _: () = assert!(std::mem::size_of::<BvhNode>() == 32);
+
+/// Deepest tree the traversal stack can hold; the builder makes leaves there.
+const MAX_DEPTH: usize = 64;
+/// Bins per axis for the SAH.
+const BINS: usize = 16;
+/// Leaves never hold more than this unless the primitives cannot be split.
+const MAX_LEAF: usize = 8;
+/// Cost of a traversal step relative to a primitive test.
+const TRAVERSAL_COST: f32 = 1.0;
+
+impl BvhNode {
+    #[inline(always)]
+    fn bounds(&self) -> Aabb {
+        Aabb { min: Vec3A::from_array(self.min), max: Vec3A::from_array(self.max) }
+    }
+}
+
+/// The hierarchy.
+#[derive(Debug, Clone, Default)]
+pub struct Bvh {
+    /// Nodes, depth first; node 0 is the root.
+    pub nodes: Vec<BvhNode>,
+    /// Primitive ids in leaf order.
+    pub prims: Vec<u32>,
+    build_seconds: f64,
+}
+
+#[derive(Clone, Copy)]
+struct BuildPrim {
+    bounds: Aabb,
+    centroid: Vec3A,
+    id: u32,
+}
+
+#[derive(Clone, Copy)]
+struct Bin {
+    bounds: Aabb,
+    count: u32,
+}
+
+const EMPTY_BIN: Bin = Bin { bounds: Aabb::EMPTY, count: 0 };
+
+/// A range of build primitives waiting to become a subtree.
+struct Task {
+    start: usize,
+    end: usize,
+    depth: usize,
+    /// Interior node whose `link` must point at this subtree (right child).
+    parent: Option<usize>,
+}
+
+impl Bvh {
+    /// Build over every primitive of `geom`.
+    pub fn build(geom: &Geometry) -> Bvh {
+        let t0 = Instant::now();
+        let mut prims: Vec<BuildPrim> = (0..geom.len() as u32)
+            .into_par_iter()
+            .map(|id| {
+                let bounds = geom.bounds(id);
+                BuildPrim { bounds, centroid: bounds.center(), id }
+            })
+            .collect();
+        let mut nodes = Vec::with_capacity(2 * prims.len() / 2 + 1);
+        if !prims.is_empty() {
+            build_nodes(&mut prims, &mut nodes);
+        }
+        Bvh { nodes, prims: prims.iter().map(|p| p.id).collect(), build_seconds: t0.elapsed().as_secs_f64() }
+    }
+
+    /// Size and build time.
+    pub fn info(&self) -> AccelInfo {
+        AccelInfo {
+            build_seconds: self.build_seconds,
+            bytes: self.nodes.len() * 32 + self.prims.len() * 4,
+            nodes: self.nodes.len(),
+            summary: "BVH (binned SAH)",
+        }
+    }
+
+    /// Bounds of the whole scene.
+    pub fn bounds(&self) -> Aabb {
+        self.nodes.first().map(|n| n.bounds()).unwrap_or(Aabb::EMPTY)
+    }
+}
+
+/// Iterative depth-first build: the left child is always built right after
+/// its parent, so it sits at `parent + 1`.
+fn build_nodes(prims: &mut [BuildPrim], nodes: &mut Vec<BvhNode>) {
+    let mut stack = vec![Task { start: 0, end: prims.len(), depth: 0, parent: None }];
+    while let Some(task) = stack.pop() {
+        let index = nodes.len();
+        if let Some(p) = task.parent {
+            nodes[p].link = index as u32;
+        }
+        let range = &mut prims[task.start..task.end];
+        let bounds = range.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
+        let mut node =
+            BvhNode { min: bounds.min.into(), link: task.start as u32, max: bounds.max.into(), count: 0 };
+        let split = if task.depth + 1 >= MAX_DEPTH { None } else { sah_split(range, &bounds) };
+        match split {
+            None => {
+                node.count = range.len() as u32;
+                nodes.push(node);
+            }
+            Some(mid) => {
+                nodes.push(node);
+                let mid = task.start + mid;
+                let depth = task.depth + 1;
+                stack.push(Task { start: mid, end: task.end, depth, parent: Some(index) });
+                stack.push(Task { start: task.start, end: mid, depth, parent: None });
+            }
+        }
+    }
+}
+
+/// Partition `prims` by the cheapest binned SAH split; `None` when a leaf is
+/// cheaper (or nothing can be split). Returns the size of the left part.
+fn sah_split(prims: &mut [BuildPrim], bounds: &Aabb) -> Option<usize> {
+    let n = prims.len();
+    if n <= 2 {
+        return None;
+    }
+    let cb = prims.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid));
+    let extent = cb.size();
+    let mut best: Option<(f32, usize, usize)> = None; // cost, axis, bin
+    for axis in 0..3 {
+        if extent[axis] <= 0.0 {
+            continue;
+        }
+        let bins = bin_axis(prims, &cb, axis);
+        // Sweep from the right to get right-side areas and counts.
+        let mut right_area = [0.0f32; BINS];
+        let mut right_count = [0u32; BINS];
+        let (mut rb, mut rc) = (Aabb::EMPTY, 0);
+        for i in (1..BINS).rev() {
+            rb = rb.union(bins[i].bounds);
+            rc += bins[i].count;
+            right_area[i] = rb.half_area();
+            right_count[i] = rc;
+        }
+        let (mut lb, mut lc) = (Aabb::EMPTY, 0);
+        for i in 0..BINS - 1 {
+            lb = lb.union(bins[i].bounds);
+            lc += bins[i].count;
+            if lc == 0 || right_count[i + 1] == 0 {
+                continue;
+            }
+            let cost = lc as f32 * lb.half_area() + right_count[i + 1] as f32 * right_area[i + 1];
+            if best.is_none_or(|b| cost < b.0) {
+                best = Some((cost, axis, i));
+            }
+        }
+    }
+    let (cost, axis, bin) = best?;
+    let area = bounds.half_area().max(f32::MIN_POSITIVE);
+    let split_cost = TRAVERSAL_COST + cost / area;
+    if n <= MAX_LEAF && split_cost >= n as f32 {
+        return None;
+    }
+    let scale = BINS as f32 / extent[axis];
+    let lo = cb.min[axis];
+    let mid = partition(prims, |p| bin_index(p.centroid[axis], lo, scale) <= bin);
+    (mid > 0 && mid < n).then_some(mid)
+}
+
+#[inline]
+fn bin_index(c: f32, lo: f32, scale: f32) -> usize {
+    (((c - lo) * scale) as usize).min(BINS - 1)
+}
+
+fn bin_axis(prims: &[BuildPrim], cb: &Aabb, axis: usize) -> [Bin; BINS] {
+    let scale = BINS as f32 / cb.size()[axis];
+    let lo = cb.min[axis];
+    let fill = |mut bins: [Bin; BINS], p: &BuildPrim| {
+        let b = &mut bins[bin_index(p.centroid[axis], lo, scale)];
+        b.bounds = b.bounds.union(p.bounds);
+        b.count += 1;
+        bins
+    };
+    let merge = |mut a: [Bin; BINS], b: [Bin; BINS]| {
+        for i in 0..BINS {
+            a[i].bounds = a[i].bounds.union(b[i].bounds);
+            a[i].count += b[i].count;
+        }
+        a
+    };
+    if prims.len() > 1 << 15 {
+        // Large nodes near the root: bin on all cores. The merge is exact
+        // (unions and counts), so the tree does not depend on thread count.
+        prims
+            .par_chunks(1 << 13)
+            .map(|c| c.iter().fold([EMPTY_BIN; BINS], fill))
+            .reduce(|| [EMPTY_BIN; BINS], merge)
+    } else {
+        prims.iter().fold([EMPTY_BIN; BINS], fill)
+    }
+}
+
+/// In-place partition; returns the number of elements satisfying `pred`.
+fn partition<T>(v: &mut [T], pred: impl Fn(&T) -> bool) -> usize {
+    let mut i = 0;
+    for j in 0..v.len() {
+        if pred(&v[j]) {
+            v.swap(i, j);
+            i += 1;
+        }
+    }
+    i
+}
+
+impl Intersector for Bvh {
+    type Scratch = ();
+
+    fn scratch(&self, _: &Geometry) {}
+
+    #[inline]
+    fn intersect(
+        &self,
+        geom: &Geometry,
+        q: &RayQuery,
+        t_max: f32,
+        _: &mut (),
+        c: &mut Counters,
+    ) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        self.nodes.first()?.bounds().hit(q, q.t_min, t_max)?;
+        let mut stack = [0u32; MAX_DEPTH];
+        let mut sp = 0;
+        let mut index = 0usize;
+        loop {
+            let node = &self.nodes[index];
+            c.visits += 1;
+            if node.count > 0 {
+                let start = node.link as usize;
+                for &id in &self.prims[start..start + node.count as usize] {
+                    let limit = best.map_or(t_max, |h| h.t);
+                    test_prim(geom, id, q, &mut best, limit, c);
+                }
+            } else {
+                let limit = best.map_or(t_max, |h| h.t);
+                let (l, r) = (index + 1, node.link as usize);
+                let hl = self.nodes[l].bounds().hit(q, q.t_min, limit);
+                let hr = self.nodes[r].bounds().hit(q, q.t_min, limit);
+                match (hl, hr) {
+                    (Some(a), Some(b)) => {
+                        let (near, far) = if a.0 <= b.0 { (l, r) } else { (r, l) };
+                        stack[sp] = far as u32;
+                        sp += 1;
+                        index = near;
+                        continue;
+                    }
+                    (Some(_), None) => {
+                        index = l;
+                        continue;
+                    }
+                    (None, Some(_)) => {
+                        index = r;
+                        continue;
+                    }
+                    (None, None) => {}
+                }
+            }
+            if sp == 0 {
+                return best;
+            }
+            sp -= 1;
+            index = stack[sp] as usize;
+        }
+    }
+
+    #[inline]
+    fn occluded(&self, geom: &Geometry, q: &RayQuery, t_max: f32, _: &mut (), c: &mut Counters) -> bool {
+        let Some(root) = self.nodes.first() else { return false };
+        if root.bounds().hit(q, q.t_min, t_max).is_none() {
+            return false;
+        }
+        let mut stack = [0u32; MAX_DEPTH];
+        let mut sp = 0;
+        let mut index = 0usize;
+        loop {
+            let node = &self.nodes[index];
+            c.visits += 1;
+            if node.count > 0 {
+                let start = node.link as usize;
+                for &id in &self.prims[start..start + node.count as usize] {
+                    if test_shadow(geom, id, q, t_max, c) {
+                        return true;
+                    }
+                }
+            } else {
+                let (l, r) = (index + 1, node.link as usize);
+                let hl = self.nodes[l].bounds().hit(q, q.t_min, t_max).is_some();
+                let hr = self.nodes[r].bounds().hit(q, q.t_min, t_max).is_some();
+                if hl || hr {
+                    if hl && hr {
+                        stack[sp] = r as u32;
+                        sp += 1;
+                    }
+                    index = if hl { l } else { r };
+                    continue;
+                }
+            }
+            if sp == 0 {
+                return false;
+            }
+            sp -= 1;
+            index = stack[sp] as usize;
+        }
+    }
+}

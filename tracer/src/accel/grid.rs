@@ -1,0 +1,342 @@
+//! The seed's uniform grid (its section 3), with mailboxes (its section 4.2)
+//! made safe for many threads.
+//!
+//! - World box: the union of the primitives' boxes.
+//! - Cells per axis, formula (1): `size × M × cbrt(n / volume) + 1`, floored;
+//!   M = 0 gives a single cell.
+//! - Filling, Algorithm 2: each primitive goes into every cell its box
+//!   touches, border cells included (indices clamped to the grid).
+//! - Storage: compressed rows, one offset array and one index array.
+//! - Traversal: 3D-DDA (Amanatides and Woo, 1987), stopping at the first cell
+//!   whose nearest hit lies inside that cell.
+//! - Mailboxes: a primitive spanning several cells is tested once per ray.
+//!   The stamp array and the ray counter belong to each render thread
+//!   ([`Mailbox`], the intersector's scratch), never to the shared grid.
+
+use super::{test_prim, test_shadow, AccelInfo, Intersector};
+use crate::aabb::Aabb;
+use crate::geometry::{Geometry, Hit};
+use crate::math::RayQuery;
+use crate::stats::Counters;
+use glam::Vec3A;
+use std::time::Instant;
+
+/// Cap on the number of cells, whatever M asks for.
+const MAX_CELLS: u64 = 1 << 26;
+
+/// The grid.
+#[derive(Debug, Clone)]
+pub struct Grid {
+    bounds: Aabb,
+    /// Cells per axis.
+    pub dims: [u32; 3],
+    cell_size: Vec3A,
+    inv_cell_size: Vec3A,
+    /// `offsets[c]..offsets[c + 1]` are cell `c`'s entries in `items`.
+    offsets: Vec<u32>,
+    items: Vec<u32>,
+    mailbox: bool,
+    prim_count: usize,
+    build_seconds: f64,
+}
+
+/// Per-thread mailbox: the last ray id that tested each primitive.
+#[derive(Debug, Clone)]
+pub struct Mailbox {
+    stamps: Vec<u32>,
+    ray: u32,
+}
+
+impl Mailbox {
+    /// A mailbox for `n` primitives (empty when mailboxes are off).
+    pub fn new(n: usize) -> Mailbox {
+        Mailbox { stamps: vec![0; n], ray: 0 }
+    }
+
+    /// Start a new ray: a new id, clearing the stamps when ids wrap.
+    #[inline]
+    fn next_ray(&mut self) {
+        self.ray = self.ray.wrapping_add(1);
+        if self.ray == 0 {
+            self.stamps.fill(0);
+            self.ray = 1;
+        }
+    }
+
+    /// True if `id` was already tested by this ray; marks it tested.
+    #[inline]
+    fn seen(&mut self, id: u32) -> bool {
+        let s = &mut self.stamps[id as usize];
+        let seen = *s == self.ray;
+        *s = self.ray;
+        seen
+    }
+}
+
+/// Cells per axis by the seed's formula (1).
+pub fn cell_counts(bounds: &Aabb, n: usize, m: f32) -> [u32; 3] {
+    let size = bounds.size().max(Vec3A::ZERO);
+    // A flat world (an axis-aligned polygon) has no volume: give thin axes a
+    // token thickness so the density stays finite; they still get one cell.
+    let floor = size.max_element().max(f32::MIN_POSITIVE) * 1e-3;
+    let s = size.max(Vec3A::splat(floor));
+    let density = (n as f32 / (s.x * s.y * s.z)).cbrt();
+    let mut dims = [0u32; 3];
+    for i in 0..3 {
+        let c = size[i] * m * density;
+        dims[i] = if c.is_finite() { (c as u32).saturating_add(1) } else { 1 };
+    }
+    // Keep absurd M values from exhausting memory.
+    while dims.iter().map(|&d| d as u64).product::<u64>() > MAX_CELLS {
+        for d in &mut dims {
+            *d = (*d / 2).max(1);
+        }
+    }
+    dims
+}
+
+impl Grid {
+    /// Build with density multiplier `m`.
+    pub fn build(geom: &Geometry, m: f32, mailbox: bool) -> Grid {
+        let t0 = Instant::now();
+        let n = geom.len();
+        let boxes: Vec<Aabb> = (0..n as u32).map(|id| geom.bounds(id)).collect();
+        let bounds = boxes.iter().fold(Aabb::EMPTY, |a, b| a.union(*b));
+        let bounds = if n == 0 { Aabb::new(Vec3A::ZERO, Vec3A::ZERO) } else { bounds };
+        let dims = cell_counts(&bounds, n, m.max(0.0));
+        let dimv = Vec3A::new(dims[0] as f32, dims[1] as f32, dims[2] as f32);
+        let size = bounds.size();
+        let cell_size = size / dimv;
+        let inv_cell_size = Vec3A::select(size.cmpgt(Vec3A::ZERO), dimv / size, Vec3A::ZERO);
+        let mut grid = Grid {
+            bounds,
+            dims,
+            cell_size,
+            inv_cell_size,
+            offsets: Vec::new(),
+            items: Vec::new(),
+            mailbox,
+            prim_count: n,
+            build_seconds: 0.0,
+        };
+        grid.fill(&boxes);
+        grid.build_seconds = t0.elapsed().as_secs_f64();
+        grid
+    }
+
+    /// Algorithm 2 of the seed: a world position to clamped cell indices.
+    fn world_to_cell(&self, p: Vec3A) -> [u32; 3] {
+        let rel = (p - self.bounds.min) * self.inv_cell_size;
+        let mut c = [0u32; 3];
+        for i in 0..3 {
+            c[i] = (rel[i].max(0.0) as u32).min(self.dims[i] - 1);
+        }
+        c
+    }
+
+    #[inline]
+    fn cell_index(&self, c: [u32; 3]) -> usize {
+        (c[0] + self.dims[0] * (c[1] + self.dims[1] * c[2])) as usize
+    }
+
+    fn cell_ranges(&self, b: &Aabb) -> ([u32; 3], [u32; 3]) {
+        (self.world_to_cell(b.min), self.world_to_cell(b.max))
+    }
+
+    /// Two passes: count entries per cell, then place them (compressed rows).
+    fn fill(&mut self, boxes: &[Aabb]) {
+        let cells = self.dims.iter().map(|&d| d as usize).product::<usize>();
+        let mut counts = vec![0u32; cells + 1];
+        let each_cell = |g: &Grid, b: &Aabb, f: &mut dyn FnMut(usize)| {
+            let (lo, hi) = g.cell_ranges(b);
+            for z in lo[2]..=hi[2] {
+                for y in lo[1]..=hi[1] {
+                    for x in lo[0]..=hi[0] {
+                        f(g.cell_index([x, y, z]));
+                    }
+                }
+            }
+        };
+        for b in boxes {
+            each_cell(self, b, &mut |c| counts[c + 1] += 1);
+        }
+        for i in 0..cells {
+            counts[i + 1] += counts[i];
+        }
+        let mut cursor = counts.clone();
+        let mut items = vec![0u32; counts[cells] as usize];
+        for (id, b) in boxes.iter().enumerate() {
+            each_cell(self, b, &mut |c| {
+                items[cursor[c] as usize] = id as u32;
+                cursor[c] += 1;
+            });
+        }
+        self.offsets = counts;
+        self.items = items;
+    }
+
+    /// Size and build time.
+    pub fn info(&self) -> AccelInfo {
+        AccelInfo {
+            build_seconds: self.build_seconds,
+            bytes: (self.offsets.len() + self.items.len()) * 4,
+            nodes: self.offsets.len() - 1,
+            summary: if self.mailbox { "uniform grid with mailboxes" } else { "uniform grid, no mailboxes" },
+        }
+    }
+
+    /// The primitives listed in cell `c`.
+    #[inline]
+    fn cell(&self, c: usize) -> &[u32] {
+        &self.items[self.offsets[c] as usize..self.offsets[c + 1] as usize]
+    }
+
+    /// 3D-DDA: calls `visit(cell, t_exit)` for each cell the ray crosses
+    /// within `(q.t_min, t_max)`, in order, until `visit` returns false.
+    #[inline]
+    pub fn walk(&self, q: &RayQuery, t_max: f32, mut visit: impl FnMut(usize, f32) -> bool) {
+        let Some((t0, t1)) = self.bounds.hit(q, q.t_min, t_max) else { return };
+        let (o, d) = (q.ray.o, q.ray.d);
+        let mut cell = self.world_to_cell(o + d * t0);
+        let mut next = [f32::INFINITY; 3];
+        let mut delta = [f32::INFINITY; 3];
+        let mut step = [0i32; 3];
+        for i in 0..3 {
+            if d[i] > 0.0 {
+                step[i] = 1;
+                let edge = self.bounds.min[i] + (cell[i] + 1) as f32 * self.cell_size[i];
+                next[i] = (edge - o[i]) / d[i];
+                delta[i] = self.cell_size[i] / d[i];
+            } else if d[i] < 0.0 {
+                step[i] = -1;
+                let edge = self.bounds.min[i] + cell[i] as f32 * self.cell_size[i];
+                next[i] = (edge - o[i]) / d[i];
+                delta[i] = -self.cell_size[i] / d[i];
+            }
+        }
+        loop {
+            let axis = if next[0] < next[1] {
+                if next[0] < next[2] {
+                    0
+                } else {
+                    2
+                }
+            } else if next[1] < next[2] {
+                1
+            } else {
+                2
+            };
+            let t_exit = next[axis].min(t1);
+            if !visit(self.cell_index(cell), t_exit) || next[axis] > t1 {
+                return;
+            }
+            let c = cell[axis] as i32 + step[axis];
+            if c < 0 || c >= self.dims[axis] as i32 {
+                return;
+            }
+            cell[axis] = c as u32;
+            next[axis] += delta[axis];
+        }
+    }
+
+    /// Cell coordinates the DDA visits, in order (for tests and tools).
+    pub fn cells_along(&self, q: &RayQuery, t_max: f32) -> Vec<[u32; 3]> {
+        let mut out = Vec::new();
+        let (dx, dy) = (self.dims[0] as usize, self.dims[1] as usize);
+        self.walk(q, t_max, |c, _| {
+            out.push([(c % dx) as u32, ((c / dx) % dy) as u32, (c / (dx * dy)) as u32]);
+            true
+        });
+        out
+    }
+
+    /// The cell holding point `p` (clamped), as the builder computes it.
+    pub fn cell_of(&self, p: Vec3A) -> [u32; 3] {
+        self.world_to_cell(p)
+    }
+}
+
+impl Intersector for Grid {
+    type Scratch = Mailbox;
+
+    fn scratch(&self, _: &Geometry) -> Mailbox {
+        Mailbox::new(if self.mailbox { self.prim_count } else { 0 })
+    }
+
+    fn intersect(
+        &self,
+        geom: &Geometry,
+        q: &RayQuery,
+        t_max: f32,
+        mb: &mut Mailbox,
+        c: &mut Counters,
+    ) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        let use_mailbox = self.mailbox;
+        if use_mailbox {
+            mb.next_ray();
+        }
+        self.walk(q, t_max, |cell, t_exit| {
+            c.visits += 1;
+            for &id in self.cell(cell) {
+                if use_mailbox && mb.seen(id) {
+                    c.mailbox_hits += 1;
+                    continue;
+                }
+                test_prim(geom, id, q, &mut best, t_max, c);
+            }
+            // Stop once the nearest hit lies within this cell: no later cell
+            // can hold a nearer one.
+            !best.is_some_and(|h| h.t <= t_exit)
+        });
+        best
+    }
+
+    fn occluded(
+        &self,
+        geom: &Geometry,
+        q: &RayQuery,
+        t_max: f32,
+        mb: &mut Mailbox,
+        c: &mut Counters,
+    ) -> bool {
+        let mut hit = false;
+        let use_mailbox = self.mailbox;
+        if use_mailbox {
+            mb.next_ray();
+        }
+        self.walk(q, t_max, |cell, _| {
+            c.visits += 1;
+            for &id in self.cell(cell) {
+                if use_mailbox && mb.seen(id) {
+                    c.mailbox_hits += 1;
+                    continue;
+                }
+                if test_shadow(geom, id, q, t_max, c) {
+                    hit = true;
+                    return false;
+                }
+            }
+            true
+        });
+        hit
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn formula_one_and_m_zero() {
+        let b = Aabb::new(Vec3A::ZERO, Vec3A::new(2.0, 1.0, 1.0));
+        assert_eq!(cell_counts(&b, 1000, 0.0), [1, 1, 1]);
+        // n/V = 500, cbrt = 7.937; x: 2 * 2 * 7.937 + 1 = 32.7 -> 32
+        assert_eq!(cell_counts(&b, 1000, 2.0), [32, 16, 16]);
+        // A flat world still works.
+        let flat = Aabb::new(Vec3A::ZERO, Vec3A::new(1.0, 1.0, 0.0));
+        let d = cell_counts(&flat, 100, 2.0);
+        assert_eq!(d[2], 1);
+        assert!(d[0] > 1);
+    }
+}

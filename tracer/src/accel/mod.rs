@@ -1,0 +1,165 @@
+//! Acceleration structures behind one interface: brute force, the seed's
+//! uniform grid with mailboxes, and a binned-SAH BVH (the default).
+//!
+//! The renderer matches on [`Accel`] once per image and then runs code
+//! generic over [`Intersector`], so the hot loop has no dynamic dispatch.
+
+mod brute;
+mod bvh;
+mod grid;
+
+pub use brute::BruteForce;
+pub use bvh::{Bvh, BvhNode};
+pub use grid::{Grid, Mailbox};
+
+use crate::geometry::{Geometry, Hit};
+use crate::math::RayQuery;
+use crate::stats::Counters;
+
+/// Nearest-hit and any-hit queries over a [`Geometry`].
+pub trait Intersector: Sync {
+    /// Per-thread mutable state (the grid's mailbox); `()` when none.
+    type Scratch: Send;
+
+    /// Fresh scratch state for one render thread.
+    fn scratch(&self, geom: &Geometry) -> Self::Scratch;
+
+    /// The nearest hit in `(q.t_min, t_max)`; at equal distance, the lowest
+    /// primitive id (so every accelerator returns the same hit).
+    fn intersect(
+        &self,
+        geom: &Geometry,
+        q: &RayQuery,
+        t_max: f32,
+        scratch: &mut Self::Scratch,
+        c: &mut Counters,
+    ) -> Option<Hit>;
+
+    /// Whether anything lies in `(q.t_min, t_max)` (shadow rays); stops at the
+    /// first occluder.
+    fn occluded(
+        &self,
+        geom: &Geometry,
+        q: &RayQuery,
+        t_max: f32,
+        scratch: &mut Self::Scratch,
+        c: &mut Counters,
+    ) -> bool;
+}
+
+/// The accelerator kinds a user chooses from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum AccelKind {
+    /// Test every primitive.
+    None,
+    /// The seed's uniform grid.
+    Grid,
+    /// Bounding volume hierarchy.
+    #[default]
+    Bvh,
+}
+
+/// Options for building an accelerator.
+#[derive(Debug, Clone, Copy)]
+pub struct AccelOptions {
+    /// Which structure.
+    pub kind: AccelKind,
+    /// The grid's density multiplier M (formula (1) of the seed).
+    pub grid_m: f32,
+    /// Whether the grid uses mailboxes.
+    pub mailbox: bool,
+}
+
+impl Default for AccelOptions {
+    fn default() -> Self {
+        AccelOptions { kind: AccelKind::Bvh, grid_m: 2.0, mailbox: true }
+    }
+}
+
+/// A built accelerator.
+#[derive(Debug, Clone)]
+pub enum Accel {
+    /// Brute force.
+    None(BruteForce),
+    /// Uniform grid.
+    Grid(Grid),
+    /// BVH.
+    Bvh(Bvh),
+}
+
+/// What an accelerator costs: for the statistics.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct AccelInfo {
+    /// Build time in seconds.
+    pub build_seconds: f64,
+    /// Bytes used by the structure (not counting the primitives).
+    pub bytes: usize,
+    /// Nodes (BVH) or cells (grid).
+    pub nodes: usize,
+    /// A one-line description.
+    pub summary: &'static str,
+}
+
+impl Accel {
+    /// Build the chosen structure over `geom`.
+    pub fn build(geom: &Geometry, opts: &AccelOptions) -> Accel {
+        match opts.kind {
+            AccelKind::None => Accel::None(BruteForce),
+            AccelKind::Grid => Accel::Grid(Grid::build(geom, opts.grid_m, opts.mailbox)),
+            AccelKind::Bvh => Accel::Bvh(Bvh::build(geom)),
+        }
+    }
+
+    /// Size and build time.
+    pub fn info(&self) -> AccelInfo {
+        match self {
+            Accel::None(_) => AccelInfo { summary: "none (brute force)", ..Default::default() },
+            Accel::Grid(g) => g.info(),
+            Accel::Bvh(b) => b.info(),
+        }
+    }
+}
+
+/// Run `f` with the concrete accelerator: the one place dynamic choice meets
+/// the generic hot loop.
+#[macro_export]
+macro_rules! with_accel {
+    ($accel:expr, $a:ident => $body:expr) => {
+        match $accel {
+            $crate::accel::Accel::None($a) => $body,
+            $crate::accel::Accel::Grid($a) => $body,
+            $crate::accel::Accel::Bvh($a) => $body,
+        }
+    };
+}
+
+/// Test one primitive, counting the test, keeping the better of two hits.
+/// `limit` is `t_max` nudged up one ulp so that an equal-distance hit with a
+/// lower id can still win the tie.
+#[inline(always)]
+pub(crate) fn test_prim(
+    geom: &Geometry,
+    id: u32,
+    q: &RayQuery,
+    best: &mut Option<Hit>,
+    t_max: f32,
+    c: &mut Counters,
+) {
+    let limit = match best {
+        Some(b) => f32::from_bits(b.t.to_bits() + 1),
+        None => t_max,
+    };
+    c.tests[geom.locate(id).0 as usize] += 1;
+    if let Some(h) = geom.intersect(id, q, limit) {
+        if h.beats(best) {
+            *best = Some(h);
+        }
+    }
+}
+
+/// Whether primitive `id` occludes the shadow ray, counting the test.
+#[inline(always)]
+pub(crate) fn test_shadow(geom: &Geometry, id: u32, q: &RayQuery, t_max: f32, c: &mut Counters) -> bool {
+    c.tests[geom.locate(id).0 as usize] += 1;
+    geom.intersect(id, q, t_max).is_some()
+}

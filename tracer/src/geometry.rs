@@ -1,0 +1,501 @@
+//! The primitive store: spheres, triangles and cones in flat typed arrays,
+//! addressed by one dense `u32` id space (spheres first, then triangles, then
+//! cones), so accelerators and mailboxes can index any primitive.
+//!
+//! Each shape has a cheap hit test returning distance (and barycentrics) and a
+//! separate [`Geometry::surface`] that builds normals only for the final hit.
+
+use crate::aabb::Aabb;
+use crate::math::RayQuery;
+use glam::Vec3A;
+
+/// Which side of a surface may be hit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Cull {
+    /// Both sides (two-sided shading, transmissive objects).
+    None,
+    /// Only the front (outside of a sphere or cone, counter-clockwise side of
+    /// a polygon): the spec's one-sided rule.
+    Back,
+    /// Only the back: negative radii, "inside visible only".
+    Front,
+}
+
+/// A sphere.
+#[derive(Debug, Clone, Copy)]
+pub struct Sphere {
+    /// Centre.
+    pub center: Vec3A,
+    /// Radius (positive).
+    pub radius: f32,
+}
+
+/// A triangle (polygons and patches are triangulated at load).
+#[derive(Debug, Clone, Copy)]
+pub struct Triangle {
+    /// Vertices, counter-clockwise seen from the front.
+    pub v: [Vec3A; 3],
+}
+
+/// An open cone or cylinder.
+#[derive(Debug, Clone, Copy)]
+pub struct Cone {
+    /// Centre of the base disc.
+    pub base: Vec3A,
+    /// Unit axis from base to apex.
+    pub axis: Vec3A,
+    /// Distance from base to apex.
+    pub height: f32,
+    /// Radius at the base.
+    pub r0: f32,
+    /// Radius change per unit of height.
+    pub slope: f32,
+}
+
+/// The kinds of primitive, for statistics.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    /// A sphere.
+    Sphere = 0,
+    /// A triangle.
+    Triangle = 1,
+    /// A cone or cylinder.
+    Cone = 2,
+}
+
+/// Per-primitive data the hit tests do not need: material, culling, normals.
+#[derive(Debug, Clone, Copy)]
+pub struct PrimInfo {
+    /// Index into the scene's materials.
+    pub material: u32,
+    /// Which side may be hit.
+    pub cull: Cull,
+    /// For triangles from a `pp` patch: index into [`Geometry::patch_normals`].
+    pub patch: Option<u32>,
+    /// The NFF primitive it came from (index in the file's primitive list).
+    pub source: u32,
+}
+
+/// A hit: enough to find the surface later, nothing more.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hit {
+    /// Distance along the ray.
+    pub t: f32,
+    /// Primitive id.
+    pub prim: u32,
+    /// Barycentric coordinates of vertices 1 and 2 (triangles only).
+    pub u: f32,
+    /// See `u`.
+    pub v: f32,
+}
+
+impl Hit {
+    /// Is this hit to be preferred over `best`? Nearer wins; at equal
+    /// distance the lower id wins, so every accelerator picks the same one.
+    #[inline]
+    pub fn beats(&self, best: &Option<Hit>) -> bool {
+        match best {
+            None => true,
+            Some(b) => self.t < b.t || (self.t == b.t && self.prim < b.prim),
+        }
+    }
+}
+
+/// The geometric record of a hit, built once per shaded point.
+#[derive(Debug, Clone, Copy)]
+pub struct Surface {
+    /// The point.
+    pub p: Vec3A,
+    /// Geometric normal, as the primitive defines its front.
+    pub ng: Vec3A,
+    /// Shading normal (interpolated for patches), on the same side as `ng`.
+    pub ns: Vec3A,
+}
+
+/// All primitives of a scene.
+#[derive(Debug, Default, Clone)]
+pub struct Geometry {
+    /// Spheres: ids `0..spheres.len()`.
+    pub spheres: Vec<Sphere>,
+    /// Triangles: the next ids.
+    pub triangles: Vec<Triangle>,
+    /// Cones: the last ids.
+    pub cones: Vec<Cone>,
+    /// Per-primitive data, indexed by id.
+    pub info: Vec<PrimInfo>,
+    /// Vertex normals of patch triangles.
+    pub patch_normals: Vec<[Vec3A; 3]>,
+}
+
+impl Geometry {
+    /// Number of primitives.
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.info.len()
+    }
+
+    /// True when there are no primitives.
+    pub fn is_empty(&self) -> bool {
+        self.info.is_empty()
+    }
+
+    /// The kind of primitive `id`, and its index in that kind's array.
+    #[inline]
+    pub fn locate(&self, id: u32) -> (Kind, usize) {
+        let id = id as usize;
+        let ns = self.spheres.len();
+        let nt = ns + self.triangles.len();
+        if id < ns {
+            (Kind::Sphere, id)
+        } else if id < nt {
+            (Kind::Triangle, id - ns)
+        } else {
+            (Kind::Cone, id - nt)
+        }
+    }
+
+    /// Bounds of primitive `id`.
+    pub fn bounds(&self, id: u32) -> Aabb {
+        match self.locate(id) {
+            (Kind::Sphere, i) => {
+                let s = self.spheres[i];
+                Aabb::new(s.center - s.radius, s.center + s.radius)
+            }
+            (Kind::Triangle, i) => {
+                let [a, b, c] = self.triangles[i].v;
+                Aabb::new(a.min(b).min(c), a.max(b).max(c))
+            }
+            (Kind::Cone, i) => {
+                let c = self.cones[i];
+                let apex = c.base + c.axis * c.height;
+                let r1 = c.r0 + c.slope * c.height;
+                // Per axis, a disc of radius r with unit normal a spans
+                // r * sqrt(1 - a_i^2) around its centre.
+                let e = (Vec3A::ONE - c.axis * c.axis).max(Vec3A::ZERO);
+                let e = Vec3A::new(e.x.sqrt(), e.y.sqrt(), e.z.sqrt());
+                let (e0, e1) = (e * c.r0.abs(), e * r1.abs());
+                Aabb::new((c.base - e0).min(apex - e1), (c.base + e0).max(apex + e1))
+            }
+        }
+    }
+
+    /// Test primitive `id` against the ray within `(q.t_min, t_max)`.
+    #[inline]
+    pub fn intersect(&self, id: u32, q: &RayQuery, t_max: f32) -> Option<Hit> {
+        let cull = self.info[id as usize].cull;
+        let (t, u, v) = match self.locate(id) {
+            (Kind::Sphere, i) => (intersect_sphere(&self.spheres[i], q, t_max, cull)?, 0.0, 0.0),
+            (Kind::Triangle, i) => intersect_triangle(&self.triangles[i], q, t_max, cull)?,
+            (Kind::Cone, i) => (intersect_cone(&self.cones[i], q, t_max, cull)?, 0.0, 0.0),
+        };
+        Some(Hit { t, prim: id, u, v })
+    }
+
+    /// Normals and point of a hit.
+    pub fn surface(&self, hit: &Hit, q: &RayQuery) -> Surface {
+        let p = q.ray.at(hit.t);
+        match self.locate(hit.prim) {
+            (Kind::Sphere, i) => {
+                let s = self.spheres[i];
+                let n = ((p - s.center) / s.radius).normalize();
+                Surface { p, ng: n, ns: n }
+            }
+            (Kind::Triangle, i) => {
+                let [a, b, c] = self.triangles[i].v;
+                let ng = (b - a).cross(c - a).normalize();
+                // The point from barycentrics is more exact than o + t d.
+                let w = 1.0 - hit.u - hit.v;
+                let p = a * w + b * hit.u + c * hit.v;
+                let ns = match self.info[hit.prim as usize].patch {
+                    Some(k) => {
+                        let [n0, n1, n2] = self.patch_normals[k as usize];
+                        let n = (n0 * w + n1 * hit.u + n2 * hit.v).normalize_or_zero();
+                        if n == Vec3A::ZERO {
+                            ng
+                        } else if n.dot(ng) < 0.0 {
+                            -n
+                        } else {
+                            n
+                        }
+                    }
+                    None => ng,
+                };
+                Surface { p, ng, ns }
+            }
+            (Kind::Cone, i) => {
+                let c = self.cones[i];
+                let rel = p - c.base;
+                let radial = (rel - c.axis * rel.dot(c.axis)).normalize_or_zero();
+                // Gradient of |p_perp| - (r0 + slope * h).
+                let n = (radial - c.axis * c.slope).normalize();
+                Surface { p, ng: n, ns: n }
+            }
+        }
+    }
+}
+
+/// Ray-sphere test in the numerically careful form of Haines et al.,
+/// "Precision Improvements for Ray/Sphere Intersection" (Ray Tracing Gems,
+/// 2019): the discriminant from the perpendicular distance, the near root
+/// from the stable quadratic formula.
+#[inline]
+pub fn intersect_sphere(s: &Sphere, q: &RayQuery, t_max: f32, cull: Cull) -> Option<f32> {
+    let f = q.ray.o - s.center;
+    let b = -f.dot(q.ray.d);
+    let l = f + b * q.ray.d;
+    let r2 = s.radius * s.radius;
+    let disc = r2 - l.length_squared();
+    if disc < 0.0 {
+        return None;
+    }
+    let c = f.length_squared() - r2;
+    let qq = b + disc.sqrt().copysign(b);
+    let (mut t0, mut t1) = if qq == 0.0 { (0.0, 0.0) } else { (c / qq, qq) };
+    if t0 > t1 {
+        std::mem::swap(&mut t0, &mut t1);
+    }
+    // The near root enters the sphere (outside, front); the far one leaves.
+    let ok = |t: f32| t > q.t_min && t < t_max;
+    match cull {
+        Cull::None => {
+            if ok(t0) {
+                Some(t0)
+            } else if ok(t1) {
+                Some(t1)
+            } else {
+                None
+            }
+        }
+        Cull::Back => ok(t0).then_some(t0),
+        Cull::Front => ok(t1).then_some(t1),
+    }
+}
+
+/// Watertight ray-triangle test (Woop, Benthin and Wald, JCGT 2013): edge
+/// functions in a sheared space where the ray is the z axis, so rays through
+/// a shared edge hit exactly one of the two triangles and never leak.
+/// Returns `(t, u, v)` with `u`, `v` the barycentrics of vertices 1 and 2.
+#[inline]
+pub fn intersect_triangle(tri: &Triangle, q: &RayQuery, t_max: f32, cull: Cull) -> Option<(f32, f32, f32)> {
+    let [kx, ky, kz] = q.k;
+    let s = q.shear;
+    let a = tri.v[0] - q.ray.o;
+    let b = tri.v[1] - q.ray.o;
+    let c = tri.v[2] - q.ray.o;
+    let (ax, ay) = (a[kx] - s.x * a[kz], a[ky] - s.y * a[kz]);
+    let (bx, by) = (b[kx] - s.x * b[kz], b[ky] - s.y * b[kz]);
+    let (cx, cy) = (c[kx] - s.x * c[kz], c[ky] - s.y * c[kz]);
+    let mut u = cx * by - cy * bx;
+    let mut v = ax * cy - ay * cx;
+    let mut w = bx * ay - by * ax;
+    if u == 0.0 || v == 0.0 || w == 0.0 {
+        // Exactly on an edge in single precision: decide in double.
+        u = (cx as f64 * by as f64 - cy as f64 * bx as f64) as f32;
+        v = (ax as f64 * cy as f64 - ay as f64 * cx as f64) as f32;
+        w = (bx as f64 * ay as f64 - by as f64 * ax as f64) as f32;
+    }
+    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+        return None;
+    }
+    let det = u + v + w;
+    if det == 0.0 {
+        return None;
+    }
+    // det > 0 means the ray sees the counter-clockwise (front) side.
+    match cull {
+        Cull::Back if det < 0.0 => return None,
+        Cull::Front if det > 0.0 => return None,
+        _ => {}
+    }
+    let (az, bz, cz) = (s.z * a[kz], s.z * b[kz], s.z * c[kz]);
+    let t_scaled = u * az + v * bz + w * cz;
+    let t = t_scaled / det;
+    if !(t > q.t_min && t < t_max) {
+        return None;
+    }
+    let inv = 1.0 / det;
+    Some((t, v * inv, w * inv))
+}
+
+/// Ray against the open surface |p⊥| = r0 + slope·h, 0 ≤ h ≤ height, in
+/// world space with the axis frame expressed by dot products.
+#[inline]
+pub fn intersect_cone(c: &Cone, q: &RayQuery, t_max: f32, cull: Cull) -> Option<f32> {
+    let (o, d) = (q.ray.o - c.base, q.ray.d);
+    let (oa, da) = (o.dot(c.axis), d.dot(c.axis));
+    let (op, dp) = (o - c.axis * oa, d - c.axis * da);
+    let r = c.r0 + c.slope * oa;
+    let a = dp.length_squared() - c.slope * c.slope * da * da;
+    let b = 2.0 * (op.dot(dp) - c.slope * r * da);
+    let cc = op.length_squared() - r * r;
+    let (t0, t1) = if a.abs() < 1e-12 {
+        if b == 0.0 {
+            return None;
+        }
+        let t = -cc / b;
+        (t, t)
+    } else {
+        let disc = b * b - 4.0 * a * cc;
+        if disc < 0.0 {
+            return None;
+        }
+        let qq = -0.5 * (b + disc.sqrt().copysign(b));
+        let (x, y) = (qq / a, if qq != 0.0 { cc / qq } else { qq / a });
+        (x.min(y), x.max(y))
+    };
+    for t in [t0, t1] {
+        if !(t > q.t_min && t < t_max) {
+            continue;
+        }
+        let h = oa + t * da;
+        if h < 0.0 || h > c.height || c.r0 + c.slope * h < 0.0 {
+            continue; // beyond the ends, or on the mirrored nappe
+        }
+        if cull != Cull::None {
+            let p = o + d * t;
+            let radial = p - c.axis * h;
+            let front = d.dot(radial - c.axis * (c.slope * radial.length())) < 0.0;
+            if front == (cull == Cull::Back) {
+                return Some(t);
+            }
+            continue;
+        }
+        return Some(t);
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Ray;
+
+    fn q(o: [f32; 3], d: [f32; 3]) -> RayQuery {
+        RayQuery::new(Ray::new(Vec3A::from(o), Vec3A::from(d)), 0.0)
+    }
+
+    const UNIT: Sphere = Sphere { center: Vec3A::ZERO, radius: 1.0 };
+
+    #[test]
+    fn sphere_hit_miss_grazing_inside() {
+        let t = intersect_sphere(&UNIT, &q([0.0, 0.0, -5.0], [0.0, 0.0, 1.0]), 100.0, Cull::None).unwrap();
+        assert!((t - 4.0).abs() < 1e-5);
+        assert!(intersect_sphere(&UNIT, &q([0.0, 1.5, -5.0], [0.0, 0.0, 1.0]), 100.0, Cull::None).is_none());
+        let graze = intersect_sphere(&UNIT, &q([0.0, 0.999, -5.0], [0.0, 0.0, 1.0]), 100.0, Cull::None);
+        assert!(graze.is_some());
+        let inside =
+            intersect_sphere(&UNIT, &q([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]), 100.0, Cull::None).unwrap();
+        assert!((inside - 1.0).abs() < 1e-6);
+        assert!(intersect_sphere(&UNIT, &q([0.0, 0.0, -5.0], [0.0, 0.0, 1.0]), 3.0, Cull::None).is_none());
+    }
+
+    #[test]
+    fn sphere_far_away_is_still_precise() {
+        let s = Sphere { center: Vec3A::new(0.0, 0.0, 10000.0), radius: 0.01 };
+        let t = intersect_sphere(&s, &q([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]), 1e9, Cull::None).unwrap();
+        assert!((t - 9999.99).abs() < 2e-3, "{t}");
+    }
+
+    #[test]
+    fn sphere_culling_and_negative_radius() {
+        let from_inside = q([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]);
+        assert!(intersect_sphere(&UNIT, &from_inside, 100.0, Cull::Back).is_none());
+        assert!(intersect_sphere(&UNIT, &from_inside, 100.0, Cull::Front).is_some());
+        let outside = q([0.0, 0.0, -5.0], [0.0, 0.0, 1.0]);
+        // Inside visible only: the ray passes the front and hits the back wall.
+        let t = intersect_sphere(&UNIT, &outside, 100.0, Cull::Front).unwrap();
+        assert!((t - 6.0).abs() < 1e-5);
+    }
+
+    fn tri() -> Triangle {
+        Triangle { v: [Vec3A::new(0.0, 0.0, 0.0), Vec3A::new(1.0, 0.0, 0.0), Vec3A::new(0.0, 1.0, 0.0)] }
+    }
+
+    #[test]
+    fn triangle_hit_barycentrics_and_sides() {
+        let front = q([0.25, 0.5, 1.0], [0.0, 0.0, -1.0]);
+        let (t, u, v) = intersect_triangle(&tri(), &front, 10.0, Cull::None).unwrap();
+        assert!((t - 1.0).abs() < 1e-6 && (u - 0.25).abs() < 1e-6 && (v - 0.5).abs() < 1e-6);
+        assert!(intersect_triangle(&tri(), &front, 10.0, Cull::Back).is_some());
+        assert!(intersect_triangle(&tri(), &front, 10.0, Cull::Front).is_none());
+        let back = q([0.25, 0.25, -1.0], [0.0, 0.0, 1.0]);
+        assert!(intersect_triangle(&tri(), &back, 10.0, Cull::Back).is_none());
+        assert!(intersect_triangle(&tri(), &back, 10.0, Cull::None).is_some());
+        assert!(intersect_triangle(&tri(), &q([0.8, 0.8, 1.0], [0.0, 0.0, -1.0]), 10.0, Cull::None).is_none());
+    }
+
+    #[test]
+    fn shared_edges_do_not_leak() {
+        // A quad split along its diagonal; rays aimed exactly at the diagonal
+        // (and at random points) must hit at least one of the two halves.
+        let a =
+            Triangle { v: [Vec3A::new(0.0, 0.0, 0.0), Vec3A::new(1.0, 0.0, 0.0), Vec3A::new(1.0, 1.0, 0.0)] };
+        let b =
+            Triangle { v: [Vec3A::new(0.0, 0.0, 0.0), Vec3A::new(1.0, 1.0, 0.0), Vec3A::new(0.0, 1.0, 0.0)] };
+        let mut state = 12345u32;
+        let mut rnd = || {
+            state ^= state << 13;
+            state ^= state >> 17;
+            state ^= state << 5;
+            state as f32 / u32::MAX as f32
+        };
+        for i in 0..20000 {
+            let s = if i % 2 == 0 { rnd() } else { 0.0 };
+            let x = 0.01 + 0.98 * rnd();
+            let target = Vec3A::new(x, if i % 2 == 0 { s } else { x }, 0.0);
+            let o = Vec3A::new(rnd() * 4.0 - 2.0, rnd() * 4.0 - 2.0, 1.0 + rnd() * 3.0);
+            let rq = RayQuery::new(Ray::new(o, target - o), 0.0);
+            let hit = intersect_triangle(&a, &rq, 100.0, Cull::None).is_some()
+                || intersect_triangle(&b, &rq, 100.0, Cull::None).is_some();
+            assert!(hit, "ray {i} from {o} to {target} leaked");
+        }
+    }
+
+    fn cylinder() -> Cone {
+        Cone { base: Vec3A::ZERO, axis: Vec3A::Z, height: 2.0, r0: 1.0, slope: 0.0 }
+    }
+
+    #[test]
+    fn cylinder_hits_outside_and_inside_and_ends_are_open() {
+        let t =
+            intersect_cone(&cylinder(), &q([-5.0, 0.0, 1.0], [1.0, 0.0, 0.0]), 100.0, Cull::None).unwrap();
+        assert!((t - 4.0).abs() < 1e-5);
+        // Along the axis through the open ends: no hit.
+        assert!(
+            intersect_cone(&cylinder(), &q([0.0, 0.0, -5.0], [0.0, 0.0, 1.0]), 100.0, Cull::None).is_none()
+        );
+        // Above the top: miss.
+        assert!(
+            intersect_cone(&cylinder(), &q([-5.0, 0.0, 2.5], [1.0, 0.0, 0.0]), 100.0, Cull::None).is_none()
+        );
+        // Inside only (negative radii): the far wall.
+        let t =
+            intersect_cone(&cylinder(), &q([-5.0, 0.0, 1.0], [1.0, 0.0, 0.0]), 100.0, Cull::Front).unwrap();
+        assert!((t - 6.0).abs() < 1e-5);
+        // One-sided: from inside nothing is visible.
+        assert!(
+            intersect_cone(&cylinder(), &q([0.0, 0.0, 1.0], [1.0, 0.0, 0.0]), 100.0, Cull::Back).is_none()
+        );
+    }
+
+    #[test]
+    fn cone_with_arbitrary_axis() {
+        // Cone from (0,0,0) radius 1 to (2,0,0) radius 0.5, probed at x = 1
+        // where the radius is 0.75.
+        let c = Cone { base: Vec3A::ZERO, axis: Vec3A::X, height: 2.0, r0: 1.0, slope: -0.25 };
+        let t = intersect_cone(&c, &q([1.0, -5.0, 0.0], [0.0, 1.0, 0.0]), 100.0, Cull::None).unwrap();
+        assert!((t - 4.25).abs() < 1e-5, "{t}");
+        let g = Geometry {
+            cones: vec![c],
+            info: vec![PrimInfo { material: 0, cull: Cull::None, patch: None, source: 0 }],
+            ..Default::default()
+        };
+        let b = g.bounds(0);
+        assert!((b.min.y + 1.0).abs() < 1e-6 && (b.max.x - 2.0).abs() < 1e-6);
+        let rq = q([1.0, -5.0, 0.0], [0.0, 1.0, 0.0]);
+        let hit = g.intersect(0, &rq, 100.0).unwrap();
+        let n = g.surface(&hit, &rq).ng;
+        // Normal tilts towards +x because the cone narrows along +x.
+        assert!(n.y < -0.9 && n.x > 0.1, "{n}");
+    }
+}

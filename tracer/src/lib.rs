@@ -1,0 +1,27 @@
+//! nffkit's tracer: a Whitted ray tracer for NFF scenes.
+//!
+//! Data flows one way: a [`nffkit_formats::Scene`] is turned by
+//! [`prepare::prepare`] into a [`prepare::RenderScene`] (camera, lights,
+//! materials, flat primitive arrays and an accelerator), which
+//! [`render::render`] turns into a [`film::Film`].
+//!
+//! The hot loop (traversal and primitive tests) works on plain arrays indexed
+//! by `u32`; there is no trait object per primitive and no allocation per ray.
+#![deny(missing_docs)]
+#![forbid(unsafe_code)]
+
+pub mod aabb;
+pub mod accel;
+pub mod camera;
+pub mod film;
+pub mod filter;
+pub mod geometry;
+pub mod integrator;
+pub mod math;
+pub mod prepare;
+pub mod render;
+pub mod sampling;
+pub mod stats;
+pub mod triangulate;
+
+pub use glam::Vec3A;

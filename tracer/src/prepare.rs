@@ -1,0 +1,185 @@
+//! From the file's [`Scene`] to what the renderer needs: camera, lights,
+//! materials and flat primitive arrays, plus the accelerator over them.
+
+use crate::accel::{Accel, AccelOptions};
+use crate::camera::Camera;
+use crate::geometry::{Cone, Cull, Geometry, PrimInfo, Sphere, Triangle};
+use crate::triangulate::triangulate;
+use glam::{DVec3, Vec3A};
+use nffkit_formats::{Scene, Shape};
+use thiserror::Error;
+
+/// A light as the shader sees it.
+#[derive(Debug, Clone, Copy)]
+pub struct PointLight {
+    /// Position.
+    pub position: Vec3A,
+    /// RGB intensity.
+    pub intensity: Vec3A,
+}
+
+/// A material as the shader sees it.
+#[derive(Debug, Clone, Copy)]
+pub struct Material {
+    /// Surface colour.
+    pub color: Vec3A,
+    /// Diffuse weight.
+    pub kd: f32,
+    /// Specular weight.
+    pub ks: f32,
+    /// Phong exponent.
+    pub shine: f32,
+    /// Transmittance.
+    pub t: f32,
+    /// Index of refraction.
+    pub ior: f32,
+}
+
+/// How to turn the file into a renderable scene.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct PrepareOptions {
+    /// Image width overriding the file's (the field of view is kept).
+    pub width: Option<u32>,
+    /// Image height overriding the file's.
+    pub height: Option<u32>,
+    /// The spec's one-sided rule for opaque objects (default: two-sided).
+    pub one_sided: bool,
+    /// Lens radius for depth of field (0: pinhole).
+    pub aperture: f32,
+    /// Focal distance (default: the from-at distance).
+    pub focus: Option<f32>,
+    /// The accelerator to build.
+    pub accel: AccelOptions,
+}
+
+/// Why a scene cannot be rendered.
+#[derive(Debug, Error)]
+pub enum PrepareError {
+    /// A fragment has no camera.
+    #[error("the scene has no view (`v` block); a fragment cannot be rendered on its own")]
+    NoView,
+    /// Zero or absurd image size.
+    #[error("image size {0}x{1} is not renderable (each side must be 1 to 65536)")]
+    BadSize(u32, u32),
+}
+
+/// Everything the renderer reads.
+#[derive(Debug, Clone)]
+pub struct RenderScene {
+    /// The camera.
+    pub camera: Camera,
+    /// Lights with their intensities.
+    pub lights: Vec<PointLight>,
+    /// Materials; index 0 is the default for primitives before any `f`.
+    pub materials: Vec<Material>,
+    /// Background colour.
+    pub background: Vec3A,
+    /// The primitives.
+    pub geometry: Geometry,
+    /// The accelerator over them.
+    pub accel: Accel,
+}
+
+fn v3(v: DVec3) -> Vec3A {
+    Vec3A::new(v.x as f32, v.y as f32, v.z as f32)
+}
+
+/// Prepare `scene` for rendering.
+pub fn prepare(scene: &Scene, opts: &PrepareOptions) -> Result<RenderScene, PrepareError> {
+    let view = scene.view.as_ref().ok_or(PrepareError::NoView)?;
+    let w = opts.width.unwrap_or(view.resolution[0]);
+    let h = opts.height.unwrap_or(view.resolution[1]);
+    if w == 0 || h == 0 || w > 65536 || h > 65536 {
+        return Err(PrepareError::BadSize(w, h));
+    }
+    let camera = Camera::new(view, w, h).with_lens(opts.aperture, opts.focus);
+    // SPD's convention for lights without a colour: each gets 1/sqrt(n).
+    let default_i = 1.0 / (scene.lights.len().max(1) as f32).sqrt();
+    let lights = scene
+        .lights
+        .iter()
+        .map(|l| PointLight {
+            position: v3(l.position),
+            intensity: l.color.map(v3).unwrap_or(Vec3A::splat(default_i)),
+        })
+        .collect();
+    let materials = std::iter::once(nffkit_formats::Material::default())
+        .chain(scene.materials.iter().cloned())
+        .map(|m| Material {
+            color: v3(m.color),
+            kd: m.kd as f32,
+            ks: m.ks as f32,
+            shine: m.shine as f32,
+            t: m.t as f32,
+            ior: m.ior as f32,
+        })
+        .collect::<Vec<_>>();
+    let geometry = build_geometry(scene, &materials, opts.one_sided);
+    let accel = Accel::build(&geometry, &opts.accel);
+    Ok(RenderScene {
+        camera,
+        lights,
+        materials,
+        background: scene.background.map(v3).unwrap_or(Vec3A::ZERO),
+        geometry,
+        accel,
+    })
+}
+
+/// Flatten the file's primitives into typed arrays (spheres, then
+/// triangles, then cones, the order of the id space).
+pub fn build_geometry(scene: &Scene, materials: &[Material], one_sided: bool) -> Geometry {
+    let mut g = Geometry::default();
+    let mut sphere_info = Vec::new();
+    let mut tri_info = Vec::new();
+    let mut cone_info = Vec::new();
+    for (index, prim) in scene.primitives.iter().enumerate() {
+        let material = prim.material.map_or(0, |m| m + 1);
+        let transmissive = materials[material as usize].t > 0.0;
+        let cull = |inside_only: bool| {
+            if inside_only {
+                Cull::Front
+            } else if one_sided && !transmissive {
+                Cull::Back
+            } else {
+                Cull::None
+            }
+        };
+        let info = |cull, patch| PrimInfo { material, cull, patch, source: index as u32 };
+        match &prim.shape {
+            Shape::Sphere { center, radius } => {
+                if *radius == 0.0 {
+                    continue;
+                }
+                g.spheres.push(Sphere { center: v3(*center), radius: radius.abs() as f32 });
+                sphere_info.push(info(cull(*radius < 0.0), None));
+            }
+            Shape::Cone { base, base_radius, apex, apex_radius } => {
+                let (b, a) = (v3(*base), v3(*apex));
+                let height = (a - b).length();
+                if height == 0.0 || (*base_radius == 0.0 && *apex_radius == 0.0) {
+                    continue;
+                }
+                let (r0, r1) = (base_radius.abs() as f32, apex_radius.abs() as f32);
+                g.cones.push(Cone { base: b, axis: (a - b) / height, height, r0, slope: (r1 - r0) / height });
+                cone_info.push(info(cull(*base_radius < 0.0 || *apex_radius < 0.0), None));
+            }
+            Shape::Polygon { vertices } => {
+                for t in triangulate(vertices) {
+                    g.triangles.push(Triangle { v: t.map(|i| v3(vertices[i as usize])) });
+                    tri_info.push(info(cull(false), None));
+                }
+            }
+            Shape::Patch { vertices, normals } => {
+                for t in triangulate(vertices) {
+                    g.triangles.push(Triangle { v: t.map(|i| v3(vertices[i as usize])) });
+                    let n = t.map(|i| v3(normals[i as usize]).normalize_or_zero());
+                    tri_info.push(info(cull(false), Some(g.patch_normals.len() as u32)));
+                    g.patch_normals.push(n);
+                }
+            }
+        }
+    }
+    g.info = sphere_info.into_iter().chain(tri_info).chain(cone_info).collect();
+    g
+}

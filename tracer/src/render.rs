@@ -1,0 +1,232 @@
+//! The render loop: square tiles over all cores (rayon), each pixel a pure
+//! function of its coordinates, so the image is the same for any thread count
+//! and tile order. Counters are per tile and summed afterwards.
+
+use crate::accel::Intersector;
+use crate::film::Film;
+use crate::filter::{Filter, FilterKind};
+use crate::integrator::{LightShape, SampleId, ShadeSettings, ThreadState, Whitted};
+use crate::prepare::RenderScene;
+use crate::sampling::{concentric_disk, Sampler, SamplerKind};
+use crate::stats::Counters;
+use glam::{Vec2, Vec3A};
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+/// Tile side in pixels.
+const TILE: u32 = 16;
+
+/// How to render.
+#[derive(Debug, Clone)]
+pub struct RenderSettings {
+    /// Samples per pixel and their pattern. With one sample and
+    /// `centre_single_sample`, the sample is the pixel centre (classic NFF).
+    pub sampler: Sampler,
+    /// Use the pixel centre when there is a single sample per pixel.
+    pub centre_single_sample: bool,
+    /// Reconstruction filter.
+    pub filter: FilterKind,
+    /// Recursion limit, the eye ray being depth 1.
+    pub max_depth: u32,
+    /// Area-light size (0: point lights).
+    pub light_size: f32,
+    /// Area-light shape.
+    pub light_shape: LightShape,
+    /// SPD test procedure: one ray through each pixel corner, averaged.
+    pub spd_corners: bool,
+    /// Record traversal work per pixel.
+    pub cost: bool,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            sampler: Sampler::new(SamplerKind::MultiJittered, 1, 0).0,
+            centre_single_sample: true,
+            filter: FilterKind::Box,
+            max_depth: 6,
+            light_size: 0.0,
+            light_shape: LightShape::Square,
+            spd_corners: false,
+            cost: false,
+        }
+    }
+}
+
+/// What a render produced.
+#[derive(Debug, Clone)]
+pub struct RenderOutput {
+    /// The image.
+    pub film: Film,
+    /// Traversal work per pixel, when asked for.
+    pub cost: Option<Vec<u64>>,
+    /// Summed counters.
+    pub counters: Counters,
+    /// Wall time of the render loop.
+    pub seconds: f64,
+}
+
+/// Called with (tiles done, tiles in all) as tiles finish.
+pub type Progress<'a> = &'a (dyn Fn(usize, usize) + Sync);
+
+/// Render `scene`.
+pub fn render(scene: &RenderScene, settings: &RenderSettings, progress: Progress) -> RenderOutput {
+    crate::with_accel!(&scene.accel, a => render_with(scene, a, settings, progress))
+}
+
+struct Grid2 {
+    width: u32,
+    height: u32,
+}
+
+fn render_with<I: Intersector>(
+    scene: &RenderScene,
+    accel: &I,
+    settings: &RenderSettings,
+    progress: Progress,
+) -> RenderOutput {
+    let t0 = Instant::now();
+    let (w, h) = scene.camera.resolution();
+    let shader = Whitted {
+        scene,
+        accel,
+        sampler: &settings.sampler,
+        settings: ShadeSettings {
+            max_depth: settings.max_depth,
+            light_size: settings.light_size,
+            light_shape: settings.light_shape,
+        },
+    };
+    let filter = Filter::new(settings.filter);
+    let out = if settings.spd_corners {
+        // (w+1) x (h+1) corner rays, each pixel the mean of its four corners.
+        let grid = Grid2 { width: w + 1, height: h + 1 };
+        let (corners, cost, counters) = run_tiles(&grid, accel, scene, progress, |x, y, th| {
+            let (ray, t_min) = scene.camera.ray(x as f32, y as f32, Vec2::ZERO);
+            th.counters.eye += 1;
+            shader.li(ray, t_min, 1, SampleId { px: x, py: y, index: 0 }, th)
+        });
+        let mut film = Film::new(w, h);
+        for y in 0..h {
+            for x in 0..w {
+                let c = |dx, dy| corners[((y + dy) * (w + 1) + x + dx) as usize];
+                film.pixels[(y * w + x) as usize] = (c(0, 0) + c(1, 0) + c(0, 1) + c(1, 1)) * 0.25;
+            }
+        }
+        let cost =
+            cost.map(|c| (0..w * h).map(|i| c[((i / w) * (w + 1) + i % w) as usize]).collect::<Vec<_>>());
+        RenderOutput { film, cost, counters, seconds: 0.0 }
+    } else {
+        let grid = Grid2 { width: w, height: h };
+        let (pixels, cost, counters) =
+            run_tiles(&grid, accel, scene, progress, |x, y, th| pixel(&shader, &filter, settings, x, y, th));
+        RenderOutput { film: Film { width: w, height: h, pixels }, cost, counters, seconds: 0.0 }
+    };
+    RenderOutput {
+        seconds: t0.elapsed().as_secs_f64(),
+        cost: if settings.cost { out.cost } else { None },
+        ..out
+    }
+}
+
+/// One pixel: its samples through the filter, weighted by the filter's sign.
+#[inline]
+fn pixel<I: Intersector>(
+    shader: &Whitted<I>,
+    filter: &Filter,
+    settings: &RenderSettings,
+    px: u32,
+    py: u32,
+    th: &mut ThreadState<I::Scratch>,
+) -> Vec3A {
+    let camera = &shader.scene.camera;
+    let sampler = &settings.sampler;
+    if sampler.spp == 1 && settings.centre_single_sample && camera.aperture == 0.0 {
+        let (ray, t_min) = camera.ray(px as f32 + 0.5, py as f32 + 0.5, Vec2::ZERO);
+        th.counters.eye += 1;
+        return shader.li(ray, t_min, 1, SampleId { px, py, index: 0 }, th);
+    }
+    let (mut sum, mut weights) = (Vec3A::ZERO, 0.0);
+    for index in 0..sampler.spp {
+        let (offset, weight) = filter.sample(sampler.sample(px, py, index, 0));
+        let lens = concentric_disk(sampler.sample(px, py, index, 1));
+        let (ray, t_min) = camera.ray(px as f32 + 0.5 + offset.x, py as f32 + 0.5 + offset.y, lens);
+        th.counters.eye += 1;
+        sum += weight * shader.li(ray, t_min, 1, SampleId { px, py, index }, th);
+        weights += weight;
+    }
+    if weights > 0.5 {
+        sum / weights
+    } else {
+        sum / sampler.spp as f32
+    }
+}
+
+type TileResult = (u32, Vec<Vec3A>, Vec<u64>, Counters);
+
+/// Evaluate `f` at every point of `grid`, tile by tile on all cores.
+fn run_tiles<I: Intersector>(
+    grid: &Grid2,
+    accel: &I,
+    scene: &RenderScene,
+    progress: Progress,
+    f: impl Fn(u32, u32, &mut ThreadState<I::Scratch>) -> Vec3A + Sync,
+) -> (Vec<Vec3A>, Option<Vec<u64>>, Counters) {
+    let tiles_x = grid.width.div_ceil(TILE);
+    let tiles_y = grid.height.div_ceil(TILE);
+    let total = (tiles_x * tiles_y) as usize;
+    let done = AtomicUsize::new(0);
+    let results: Vec<TileResult> = (0..tiles_x * tiles_y)
+        .into_par_iter()
+        .map_init(
+            || ThreadState { scratch: accel.scratch(&scene.geometry), counters: Counters::default() },
+            |th, tile| {
+                let (tx, ty) = (tile % tiles_x * TILE, tile / tiles_x * TILE);
+                let (x1, y1) = ((tx + TILE).min(grid.width), (ty + TILE).min(grid.height));
+                let mut colors = Vec::with_capacity(((x1 - tx) * (y1 - ty)) as usize);
+                let mut costs = Vec::with_capacity(colors.capacity());
+                let before = th.counters;
+                for y in ty..y1 {
+                    for x in tx..x1 {
+                        let work = th.counters.work();
+                        colors.push(f(x, y, th));
+                        costs.push(th.counters.work() - work);
+                    }
+                }
+                let mut tile_counters = th.counters;
+                subtract(&mut tile_counters, &before);
+                let n = done.fetch_add(1, Ordering::Relaxed) + 1;
+                progress(n, total);
+                (tile, colors, costs, tile_counters)
+            },
+        )
+        .collect();
+    let mut pixels = vec![Vec3A::ZERO; (grid.width * grid.height) as usize];
+    let mut cost = vec![0u64; pixels.len()];
+    let mut counters = Counters::default();
+    for (tile, colors, costs, c) in results {
+        let (tx, ty) = (tile % tiles_x * TILE, tile / tiles_x * TILE);
+        let x1 = (tx + TILE).min(grid.width);
+        let tw = (x1 - tx) as usize;
+        for (i, (col, cst)) in colors.into_iter().zip(costs).enumerate() {
+            let (x, y) = (tx as usize + i % tw, ty as usize + i / tw);
+            pixels[y * grid.width as usize + x] = col;
+            cost[y * grid.width as usize + x] = cst;
+        }
+        counters += c;
+    }
+    (pixels, Some(cost), counters)
+}
+
+fn subtract(a: &mut Counters, b: &Counters) {
+    a.eye -= b.eye;
+    a.reflected -= b.reflected;
+    a.refracted -= b.refracted;
+    a.shadow -= b.shadow;
+    for i in 0..3 {
+        a.tests[i] -= b.tests[i];
+    }
+    a.visits -= b.visits;
+    a.mailbox_hits -= b.mailbox_hits;
+}

@@ -1,0 +1,528 @@
+//! Samplers: where in the pixel, on the lens and on each area light the
+//! samples go (seed sections 1 and 4.1, and beyond).
+//!
+//! Every sample is a pure function of (pixel, sample index, dimension, seed):
+//! no sampler holds state between calls, so the image cannot depend on thread
+//! count or tile order. Each 2D "dimension" (pixel position, lens, each
+//! light at each bounce) draws from its own shuffled copy of the pattern, the
+//! decorrelation the seed gets from one sampler object per purpose.
+//!
+//! The seed's sample sets, shuffling and `nextSample` map onto this as:
+//! a [`SampleSet`] is the whole pattern of one pixel and dimension, its
+//! shuffle is the index permutation applied per (pixel, dimension), and
+//! [`PixelSamples::next_sample`] walks a set in order.
+
+use glam::Vec2;
+use std::fmt;
+
+/// The sampling patterns.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SamplerKind {
+    /// Independent uniform random points.
+    Random,
+    /// Cell centres of an n×n grid (needs a square count).
+    Regular,
+    /// One random point in each cell of an n×n grid (needs a square count).
+    Jittered,
+    /// N-rooks: one point per row and per column of an N×N grid.
+    NRooks,
+    /// Multi-jittered (Chiu, Shirley and Wang 1994): jittered on the n×n grid
+    /// and n-rooks on the n²×n² sub-grid, x and y shuffled independently per
+    /// column and row (needs a square count).
+    MultiJittered,
+    /// Correlated multi-jittered (Kensler 2013): one shuffle shared by all
+    /// columns and rows, computed on the fly with no stored table (needs a
+    /// square count).
+    CorrelatedMultiJittered,
+    /// Hammersley points, randomised per pixel by a Cranley-Patterson shift
+    /// in x and a random digit scramble in y.
+    Hammersley,
+    /// Owen-scrambled Sobol (Burley, "Practical Hash-based Owen Scrambling",
+    /// JCGT 2020): the first two Sobol dimensions, nested-uniform scrambled,
+    /// the index shuffled the same way.
+    Sobol,
+}
+
+impl SamplerKind {
+    /// Every kind, in the order demos list them.
+    pub const ALL: [SamplerKind; 8] = [
+        SamplerKind::Random,
+        SamplerKind::Regular,
+        SamplerKind::Jittered,
+        SamplerKind::NRooks,
+        SamplerKind::MultiJittered,
+        SamplerKind::CorrelatedMultiJittered,
+        SamplerKind::Hammersley,
+        SamplerKind::Sobol,
+    ];
+
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            SamplerKind::Random => "random",
+            SamplerKind::Regular => "regular",
+            SamplerKind::Jittered => "jittered",
+            SamplerKind::NRooks => "n-rooks",
+            SamplerKind::MultiJittered => "multi-jittered",
+            SamplerKind::CorrelatedMultiJittered => "cmj",
+            SamplerKind::Hammersley => "hammersley",
+            SamplerKind::Sobol => "sobol",
+        }
+    }
+
+    /// Parse a command-line name.
+    pub fn from_name(s: &str) -> Option<SamplerKind> {
+        SamplerKind::ALL.into_iter().find(|k| k.name() == s)
+    }
+
+    /// Whether the pattern is built on an n×n grid.
+    pub fn needs_square(self) -> bool {
+        matches!(
+            self,
+            SamplerKind::Regular
+                | SamplerKind::Jittered
+                | SamplerKind::MultiJittered
+                | SamplerKind::CorrelatedMultiJittered
+        )
+    }
+}
+
+impl fmt::Display for SamplerKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A sampler: a pattern, a sample count and a seed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sampler {
+    /// The pattern.
+    pub kind: SamplerKind,
+    /// Samples per pixel (already valid for the pattern).
+    pub spp: u32,
+    /// Side of the grid for grid-based patterns.
+    n: u32,
+    /// User seed.
+    pub seed: u32,
+}
+
+impl Sampler {
+    /// A sampler taking `spp` samples per pixel. Patterns built on an n×n
+    /// grid round a non-square count up to the next square; the second value
+    /// says so, to be shown to the user.
+    pub fn new(kind: SamplerKind, spp: u32, seed: u32) -> (Sampler, Option<String>) {
+        let spp = spp.max(1);
+        let mut n = (spp as f64).sqrt().round() as u32;
+        let mut msg = None;
+        let mut count = spp;
+        if kind.needs_square() {
+            if n * n < spp {
+                n += 1;
+            }
+            if n * n != spp {
+                count = n * n;
+                msg = Some(format!(
+                    "the {kind} sampler needs a square sample count: using {count} ({n}x{n}) instead of {spp}"
+                ));
+            }
+        }
+        (Sampler { kind, spp: count, n, seed }, msg)
+    }
+
+    /// Sample `index` (< spp) of 2D dimension `dim` for pixel `(px, py)`, in
+    /// [0, 1)².
+    #[inline]
+    pub fn sample(&self, px: u32, py: u32, index: u32, dim: u32) -> Vec2 {
+        let p = hash4(px, py, dim, self.seed);
+        let count = self.spp;
+        let n = self.n;
+        match self.kind {
+            SamplerKind::Random => Vec2::new(randfloat(index, p), randfloat(index, p ^ 0x9e37_79b9)),
+            SamplerKind::Regular => {
+                let s = permute(index, count, p);
+                Vec2::new(((s % n) as f32 + 0.5) / n as f32, ((s / n) as f32 + 0.5) / n as f32)
+            }
+            SamplerKind::Jittered => {
+                let s = permute(index, count, p);
+                let (jx, jy) = (randfloat(s, p ^ 0x68bc_21eb), randfloat(s, p ^ 0x02e5_be93));
+                Vec2::new(((s % n) as f32 + jx) / n as f32, ((s / n) as f32 + jy) / n as f32)
+            }
+            SamplerKind::NRooks => {
+                let s = permute(index, count, p);
+                let col = permute(s, count, p.wrapping_mul(0xa511_e9b3));
+                let (jx, jy) = (randfloat(s, p ^ 0x68bc_21eb), randfloat(s, p ^ 0x02e5_be93));
+                Vec2::new((col as f32 + jx) / count as f32, (s as f32 + jy) / count as f32)
+            }
+            SamplerKind::MultiJittered | SamplerKind::CorrelatedMultiJittered => {
+                let correlated = self.kind == SamplerKind::CorrelatedMultiJittered;
+                multi_jittered(permute(index, count, p), n, p, correlated)
+            }
+            SamplerKind::Hammersley => {
+                let s = permute(index, count, p);
+                let shift = randfloat(0, p ^ 0x5bd1_e995);
+                let x = (s as f32 + 0.5) / count as f32 + shift;
+                let y = (s.reverse_bits() ^ hash(p ^ 0x1b87_3593)) as f32 * (1.0 / 4_294_967_296.0);
+                Vec2::new(x - x.floor(), y.min(ONE_MINUS_EPSILON))
+            }
+            SamplerKind::Sobol => {
+                let s = nested_uniform_scramble(index, hash(p));
+                let x = nested_uniform_scramble(s.reverse_bits(), hash(p ^ 0x2545_f491));
+                let y = nested_uniform_scramble(sobol_dim1(s), hash(p ^ 0x9e37_79b9));
+                Vec2::new(to_unit(x), to_unit(y))
+            }
+        }
+    }
+}
+
+const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
+
+#[inline]
+fn to_unit(x: u32) -> f32 {
+    (x as f32 * (1.0 / 4_294_967_296.0)).min(ONE_MINUS_EPSILON)
+}
+
+/// Multi-jittered sample `s` of an n×n pattern. Sample s sits in row j,
+/// column k of the coarse grid; within its cell, its x sub-column is a
+/// permutation of the rows (per column k, or one shared permutation when
+/// correlated) and its y sub-row a permutation of the columns.
+#[inline]
+fn multi_jittered(s: u32, n: u32, p: u32, correlated: bool) -> Vec2 {
+    let (k, j) = (s % n, s / n);
+    let (px, py) = if correlated {
+        (p.wrapping_mul(0xa511_e9b3), p.wrapping_mul(0x63d8_3595))
+    } else {
+        (hash(p ^ k.wrapping_mul(0xa511_e9b3)), hash(p ^ j.wrapping_mul(0x63d8_3595) ^ 0x5555_5555))
+    };
+    let sx = permute(j, n, px);
+    let sy = permute(k, n, py);
+    let jx = randfloat(s, p.wrapping_mul(0xa399_d265));
+    let jy = randfloat(s, p.wrapping_mul(0x711a_d6a5));
+    let nf = n as f32;
+    Vec2::new(
+        ((k as f32 + (sx as f32 + jx) / nf) / nf).min(ONE_MINUS_EPSILON),
+        ((j as f32 + (sy as f32 + jy) / nf) / nf).min(ONE_MINUS_EPSILON),
+    )
+}
+
+/// Second Sobol dimension by its direction numbers' recurrence (generator
+/// polynomial x + 1).
+#[inline]
+fn sobol_dim1(mut i: u32) -> u32 {
+    let mut r = 0;
+    let mut v = 1u32 << 31;
+    while i != 0 {
+        if i & 1 != 0 {
+            r ^= v;
+        }
+        i >>= 1;
+        v ^= v >> 1;
+    }
+    r
+}
+
+/// Laine-Karras style hash permutation, as improved by Burley (2020).
+#[inline]
+fn laine_karras(mut x: u32, seed: u32) -> u32 {
+    x = x.wrapping_add(seed);
+    x ^= x.wrapping_mul(0x6c50_b47c);
+    x ^= x.wrapping_mul(0xb82f_1e52);
+    x ^= x.wrapping_mul(0xc7af_e638);
+    x ^= x.wrapping_mul(0x8d22_f6e6);
+    x
+}
+
+/// Owen scrambling of the bits of `x` (most significant first).
+#[inline]
+fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
+    laine_karras(x.reverse_bits(), seed).reverse_bits()
+}
+
+/// A good 32-bit integer hash (Wellons' "lowbias32").
+#[inline]
+pub fn hash(mut x: u32) -> u32 {
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x7feb_352d);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x846c_a68b);
+    x ^= x >> 16;
+    x
+}
+
+/// Hash of four words, for (pixel x, pixel y, dimension, seed).
+#[inline]
+pub fn hash4(a: u32, b: u32, c: u32, d: u32) -> u32 {
+    hash(hash(hash(hash(a) ^ b) ^ c.wrapping_mul(0x9e37_79b9)) ^ d)
+}
+
+/// Kensler's hashed permutation: element `i` of a random permutation of
+/// `0..l` chosen by `p` ("Correlated Multi-Jittered Sampling", 2013), by
+/// cycle-walking a bijection on the next power of two.
+#[inline]
+pub fn permute(mut i: u32, l: u32, p: u32) -> u32 {
+    if l <= 1 {
+        return 0;
+    }
+    let mut w = l - 1;
+    w |= w >> 1;
+    w |= w >> 2;
+    w |= w >> 4;
+    w |= w >> 8;
+    w |= w >> 16;
+    loop {
+        i ^= p;
+        i = i.wrapping_mul(0xe170_893d);
+        i ^= p >> 16;
+        i ^= (i & w) >> 4;
+        i ^= p >> 8;
+        i = i.wrapping_mul(0x0929_eb3f);
+        i ^= p >> 23;
+        i ^= (i & w) >> 1;
+        i = i.wrapping_mul(1 | p >> 27);
+        i = i.wrapping_mul(0x6935_fa69);
+        i ^= (i & w) >> 11;
+        i = i.wrapping_mul(0x74dc_b303);
+        i ^= (i & w) >> 2;
+        i = i.wrapping_mul(0x9e50_1cc3);
+        i ^= (i & w) >> 2;
+        i = i.wrapping_mul(0xc860_a3df);
+        i &= w;
+        i ^= i >> 5;
+        if i < l {
+            break;
+        }
+    }
+    (i.wrapping_add(p)) % l
+}
+
+/// Kensler's hashed float in [0, 1) for index `i` and pattern `p`.
+#[inline]
+pub fn randfloat(mut i: u32, p: u32) -> f32 {
+    i ^= p;
+    i ^= i >> 17;
+    i ^= i >> 10;
+    i = i.wrapping_mul(0xb365_34e5);
+    i ^= i >> 12;
+    i ^= i >> 21;
+    i = i.wrapping_mul(0x93fc_4795);
+    i ^= 0xdf6e_307f;
+    i ^= i >> 17;
+    i = i.wrapping_mul(1 | p >> 18);
+    to_unit(i)
+}
+
+/// The whole pattern of one pixel and dimension: the seed's sample set.
+#[derive(Debug, Clone)]
+pub struct SampleSet {
+    /// The points, in shuffled order.
+    pub points: Vec<Vec2>,
+}
+
+impl SampleSet {
+    /// Generate the set `sampler` uses for pixel `(px, py)`, dimension `dim`.
+    pub fn generate(sampler: &Sampler, px: u32, py: u32, dim: u32) -> SampleSet {
+        SampleSet { points: (0..sampler.spp).map(|i| sampler.sample(px, py, i, dim)).collect() }
+    }
+}
+
+/// The samples of one pixel in order: the seed's `nextSample`, without a
+/// stored table.
+#[derive(Debug, Clone)]
+pub struct PixelSamples<'a> {
+    sampler: &'a Sampler,
+    px: u32,
+    py: u32,
+    dim: u32,
+    next: u32,
+}
+
+impl<'a> PixelSamples<'a> {
+    /// Walk the samples of pixel `(px, py)` in dimension `dim`.
+    pub fn new(sampler: &'a Sampler, px: u32, py: u32, dim: u32) -> Self {
+        PixelSamples { sampler, px, py, dim, next: 0 }
+    }
+
+    /// The next sample, cycling after the last one.
+    pub fn next_sample(&mut self) -> Vec2 {
+        let s = self.sampler.sample(self.px, self.py, self.next, self.dim);
+        self.next = (self.next + 1) % self.sampler.spp;
+        s
+    }
+}
+
+/// Shirley and Chiu's concentric map from the unit square to the unit disc
+/// ("A Low Distortion Map Between Disk and Square", 1997): area-preserving
+/// and continuous, so stratification survives the mapping.
+#[inline]
+pub fn concentric_disk(u: Vec2) -> Vec2 {
+    let o = 2.0 * u - Vec2::ONE;
+    if o.x == 0.0 && o.y == 0.0 {
+        return Vec2::ZERO;
+    }
+    let (r, theta) = if o.x.abs() > o.y.abs() {
+        (o.x, std::f32::consts::FRAC_PI_4 * (o.y / o.x))
+    } else {
+        (o.y, std::f32::consts::FRAC_PI_2 - std::f32::consts::FRAC_PI_4 * (o.x / o.y))
+    };
+    Vec2::new(r * theta.cos(), r * theta.sin())
+}
+
+/// Direction on the hemisphere around +z with density ∝ cos^e θ (e = 1 is
+/// the cosine-weighted hemisphere), for glossy and diffuse sampling.
+#[inline]
+pub fn cosine_power_hemisphere(u: Vec2, e: f32) -> glam::Vec3 {
+    let cos_t = (1.0 - u.y).powf(1.0 / (e + 1.0));
+    let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
+    let phi = 2.0 * std::f32::consts::PI * u.x;
+    glam::Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn set(kind: SamplerKind, spp: u32, px: u32) -> Vec<Vec2> {
+        let (s, _) = Sampler::new(kind, spp, 7);
+        SampleSet::generate(&s, px, 3, 0).points
+    }
+
+    #[test]
+    fn every_pattern_stays_in_the_unit_square() {
+        for kind in SamplerKind::ALL {
+            for spp in [1, 4, 16, 64, 100] {
+                for px in 0..20 {
+                    for p in set(kind, spp, px) {
+                        assert!(p.x >= 0.0 && p.x < 1.0 && p.y >= 0.0 && p.y < 1.0, "{kind} {p}");
+                    }
+                }
+            }
+        }
+    }
+
+    fn cell_counts(points: &[Vec2], nx: u32, ny: u32) -> Vec<u32> {
+        let mut c = vec![0; (nx * ny) as usize];
+        for p in points {
+            c[((p.y * ny as f32) as u32 * nx + (p.x * nx as f32) as u32) as usize] += 1;
+        }
+        c
+    }
+
+    #[test]
+    fn jittered_patterns_have_one_sample_per_stratum() {
+        for kind in [
+            SamplerKind::Jittered,
+            SamplerKind::MultiJittered,
+            SamplerKind::CorrelatedMultiJittered,
+            SamplerKind::Regular,
+        ] {
+            for px in 0..10 {
+                let pts = set(kind, 16, px);
+                assert!(cell_counts(&pts, 4, 4).iter().all(|&c| c == 1), "{kind}");
+            }
+        }
+    }
+
+    #[test]
+    fn rooks_patterns_have_one_sample_per_row_and_column() {
+        for kind in [SamplerKind::NRooks, SamplerKind::MultiJittered, SamplerKind::CorrelatedMultiJittered] {
+            for px in 0..10 {
+                let pts = set(kind, 16, px);
+                assert!(cell_counts(&pts, 16, 1).iter().all(|&c| c == 1), "{kind} columns");
+                assert!(cell_counts(&pts, 1, 16).iter().all(|&c| c == 1), "{kind} rows");
+            }
+        }
+    }
+
+    #[test]
+    fn low_discrepancy_sets_are_stratified_at_powers_of_two() {
+        for kind in [SamplerKind::Sobol, SamplerKind::Hammersley] {
+            let pts = set(kind, 16, 5);
+            // Both are (0,m,2)-nets in base 2 up to the shift: one per row.
+            assert!(cell_counts(&pts, 1, 16).iter().all(|&c| c == 1), "{kind} rows");
+        }
+        let pts = set(SamplerKind::Sobol, 16, 5);
+        assert!(cell_counts(&pts, 4, 4).iter().all(|&c| c == 1), "sobol 4x4");
+        assert!(cell_counts(&pts, 16, 1).iter().all(|&c| c == 1), "sobol columns");
+    }
+
+    #[test]
+    fn samples_are_pure_functions() {
+        for kind in SamplerKind::ALL {
+            let (s, _) = Sampler::new(kind, 16, 3);
+            for i in (0..16).rev() {
+                assert_eq!(s.sample(10, 20, i, 2), s.sample(10, 20, i, 2));
+            }
+            let mut walk = PixelSamples::new(&s, 10, 20, 2);
+            for i in 0..16 {
+                assert_eq!(walk.next_sample(), s.sample(10, 20, i, 2));
+            }
+        }
+    }
+
+    #[test]
+    fn pixels_and_dimensions_are_decorrelated() {
+        for kind in SamplerKind::ALL {
+            let a = set(kind, 16, 1);
+            let b = set(kind, 16, 2);
+            let (s, _) = Sampler::new(kind, 16, 7);
+            let c: Vec<Vec2> = (0..16).map(|i| s.sample(1, 3, i, 1)).collect();
+            if kind != SamplerKind::Regular {
+                assert_ne!(a, b, "{kind}: neighbouring pixels identical");
+            }
+            // Sample i of dimension 0 and of dimension 1 are not the same point.
+            assert!(a.iter().zip(&c).filter(|(p, q)| p == q).count() < 4, "{kind}");
+        }
+    }
+
+    #[test]
+    fn non_square_counts_round_up_with_a_message() {
+        let (s, msg) = Sampler::new(SamplerKind::Regular, 10, 0);
+        assert_eq!(s.spp, 16);
+        assert!(msg.unwrap().contains("16 (4x4) instead of 10"));
+        let (s, msg) = Sampler::new(SamplerKind::Random, 10, 0);
+        assert_eq!(s.spp, 10);
+        assert!(msg.is_none());
+    }
+
+    #[test]
+    fn permute_is_a_permutation() {
+        for l in [1u32, 2, 3, 7, 16, 100] {
+            let mut seen: Vec<u32> = (0..l).map(|i| permute(i, l, 0xdead_beef)).collect();
+            seen.sort();
+            assert_eq!(seen, (0..l).collect::<Vec<_>>());
+        }
+    }
+
+    #[test]
+    fn concentric_map_is_area_preserving_and_continuous() {
+        // Equal-area rings get equal counts from a uniform grid of inputs.
+        let n = 400;
+        let mut rings = [0u32; 4];
+        for i in 0..n {
+            for j in 0..n {
+                let u = Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+                let d = concentric_disk(u);
+                assert!(d.length() <= 1.0 + 1e-6);
+                rings[((d.length_squared() * 4.0) as usize).min(3)] += 1;
+            }
+        }
+        let expect = (n * n / 4) as f32;
+        for r in rings {
+            assert!((r as f32 - expect).abs() / expect < 0.02, "{rings:?}");
+        }
+        // Continuity: nearby inputs map to nearby outputs.
+        for i in 0..1000 {
+            let u = Vec2::new((i as f32 * 0.618) % 1.0, (i as f32 * 0.377) % 1.0);
+            let v = u + Vec2::splat(1e-4);
+            assert!((concentric_disk(u) - concentric_disk(v)).length() < 1e-3);
+        }
+    }
+
+    #[test]
+    fn cosine_power_hemisphere_is_upward_and_unit() {
+        for i in 0..100 {
+            let u = Vec2::new(i as f32 / 100.0, (i * 37 % 100) as f32 / 100.0);
+            let d = cosine_power_hemisphere(u, 1.0);
+            assert!(d.z >= 0.0 && (d.length() - 1.0).abs() < 1e-5);
+        }
+    }
+}
