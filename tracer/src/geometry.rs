@@ -125,6 +125,9 @@ pub struct Geometry {
     pub info: Vec<PrimInfo>,
     /// Vertex normals of patch triangles.
     pub patch_normals: Vec<[Vec3A; 3]>,
+    /// Whether any primitive culls a side; when none does (the default,
+    /// two-sided shading) the hit tests skip looking the rule up.
+    pub any_cull: bool,
 }
 
 impl Geometry {
@@ -182,7 +185,7 @@ impl Geometry {
     /// Test primitive `id` against the ray within `(q.t_min, t_max)`.
     #[inline]
     pub fn intersect(&self, id: u32, q: &RayQuery, t_max: f32) -> Option<Hit> {
-        let cull = self.info[id as usize].cull;
+        let cull = if self.any_cull { self.info[id as usize].cull } else { Cull::None };
         let (t, u, v) = match self.locate(id) {
             (Kind::Sphere, i) => (intersect_sphere(&self.spheres[i], q, t_max, cull)?, 0.0, 0.0),
             (Kind::Triangle, i) => intersect_triangle(&self.triangles[i], q, t_max, cull)?,

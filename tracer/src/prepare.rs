@@ -181,5 +181,6 @@ pub fn build_geometry(scene: &Scene, materials: &[Material], one_sided: bool) ->
         }
     }
     g.info = sphere_info.into_iter().chain(tri_info).chain(cone_info).collect();
+    g.any_cull = g.info.iter().any(|i| i.cull != Cull::None);
     g
 }

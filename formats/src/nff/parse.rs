@@ -90,6 +90,27 @@ fn parse_number(text: &[u8]) -> Option<f64> {
     std::str::from_utf8(text).ok()?.parse::<f64>().ok()
 }
 
+/// What a number is, described only when a message needs it (formatting a
+/// description per vertex would dominate the reading time).
+#[derive(Clone, Copy)]
+enum What<'s> {
+    Text(&'s str),
+    Vertex { normal: bool, i: u64, n: u64 },
+    FValue(usize),
+}
+
+impl What<'_> {
+    fn describe(self) -> String {
+        const F_NAMES: [&str; 8] = ["red", "green", "blue", "Kd", "Ks", "Shine", "T", "index of refraction"];
+        match self {
+            What::Text(t) => t.to_string(),
+            What::Vertex { normal: false, i, n } => format!("a coordinate of vertex {} of {n}", i + 1),
+            What::Vertex { normal: true, i, n } => format!("a normal component of vertex {} of {n}", i + 1),
+            What::FValue(i) => format!("`f` value {} ({})", i + 1, F_NAMES[i]),
+        }
+    }
+}
+
 /// The entity being read, for notes on truncated input.
 #[derive(Clone, Copy)]
 struct Entity<'a> {
@@ -161,20 +182,20 @@ impl<'a> Parser<'a> {
         self.diags.push(d);
     }
 
-    fn eof_error(&self, expected: &str, entity: Entity) -> Diagnostic {
+    fn eof_error(&self, expected: What, entity: Entity) -> Diagnostic {
         Diagnostic {
             severity: Severity::Error,
             line: self.eof.0,
             column: self.eof.1,
             width: 1,
-            message: format!("unexpected end of file: expected {expected}"),
+            message: format!("unexpected end of file: expected {}", expected.describe()),
             note: Some(format!("the `{}` that starts on line {} is cut short", entity.keyword, entity.line)),
         }
     }
 
     /// Read one number. On a token that is not a number, it is left unread
     /// (it may be the next entity's keyword) and the error names the entity.
-    fn number(&mut self, what: &str, entity: Entity) -> Res<f64> {
+    fn number(&mut self, what: What, entity: Entity) -> Res<f64> {
         let Some(t) = self.peek() else {
             return Err(self.eof_error(what, entity));
         };
@@ -185,10 +206,14 @@ impl<'a> Parser<'a> {
             }
             Some(_) => {
                 self.bump();
-                Err(self.error_at(&t, format!("expected {what} (a finite number), found `{}`", t.display())))
+                Err(self.error_at(
+                    &t,
+                    format!("expected {} (a finite number), found `{}`", what.describe(), t.display()),
+                ))
             }
             None => {
-                let mut d = self.error_at(&t, format!("expected {what}, found `{}`", t.display()));
+                let mut d =
+                    self.error_at(&t, format!("expected {}, found `{}`", what.describe(), t.display()));
                 if is_entity_keyword(t.text) || t.line != entity.line {
                     d.note = Some(format!("in the `{}` that starts on line {}", entity.keyword, entity.line));
                 }
@@ -197,7 +222,7 @@ impl<'a> Parser<'a> {
         }
     }
 
-    fn vec3(&mut self, what: &str, entity: Entity) -> Res<DVec3> {
+    fn vec3(&mut self, what: What, entity: Entity) -> Res<DVec3> {
         let x = self.number(what, entity)?;
         let y = self.number(what, entity)?;
         let z = self.number(what, entity)?;
@@ -207,7 +232,7 @@ impl<'a> Parser<'a> {
     /// A whole number in `[min, max]`, returned with its token.
     fn count(&mut self, what: &str, min: u64, max: u64, entity: Entity) -> Res<(u64, Token<'a>)> {
         let Some(t) = self.peek() else {
-            return Err(self.eof_error(what, entity));
+            return Err(self.eof_error(What::Text(what), entity));
         };
         let text = std::str::from_utf8(t.text).unwrap_or("");
         let value = text.parse::<u64>().ok().or_else(|| {
@@ -280,15 +305,15 @@ impl<'a> Parser<'a> {
         match kw {
             "v" => self.view(t, e),
             "b" => {
-                let c = self.vec3("a colour component", e)?;
+                let c = self.vec3(What::Text("a colour component"), e)?;
                 self.scene.background = Some(c);
                 Ok(())
             }
             "l" => self.light(t, e),
             "f" => self.material(e),
             "s" => {
-                let center = self.vec3("a sphere centre coordinate", e)?;
-                let radius = self.number("a sphere radius", e)?;
+                let center = self.vec3(What::Text("a sphere centre coordinate"), e)?;
+                let radius = self.number(What::Text("a sphere radius"), e)?;
                 if radius == 0.0 {
                     self.warn(&t, "sphere of radius 0 is invisible".into());
                 }
@@ -335,19 +360,19 @@ impl<'a> Parser<'a> {
 
     fn light(&mut self, t: Token<'a>, e: Entity) -> Res<()> {
         self.warn_if_after_objects(&t, "light");
-        let position = self.vec3("a light position coordinate", e)?;
+        let position = self.vec3(What::Text("a light position coordinate"), e)?;
         // The colour is optional: present only if a number follows.
         let has_color = self.peek().is_some_and(|n| parse_number(n.text).is_some());
-        let color = if has_color { Some(self.vec3("a light colour component", e)?) } else { None };
+        let color =
+            if has_color { Some(self.vec3(What::Text("a light colour component"), e)?) } else { None };
         self.scene.lights.push(Light { position, color });
         Ok(())
     }
 
     fn material(&mut self, e: Entity) -> Res<()> {
-        const NAMES: [&str; 8] = ["red", "green", "blue", "Kd", "Ks", "Shine", "T", "index of refraction"];
         let mut v = [0.0; 8];
-        for (i, name) in NAMES.iter().enumerate() {
-            v[i] = self.number(&format!("`f` value {} ({name})", i + 1), e).map_err(|mut d| {
+        for (i, slot) in v.iter_mut().enumerate() {
+            *slot = self.number(What::FValue(i), e).map_err(|mut d| {
                 d.note = Some(format!(
                     "`f` takes 8 numbers: red green blue Kd Ks Shine T index_of_refraction; \
                      the one on line {} has {i}",
@@ -368,10 +393,10 @@ impl<'a> Parser<'a> {
     }
 
     fn cone(&mut self, t: Token<'a>, e: Entity) -> Res<()> {
-        let base = self.vec3("a cone base coordinate", e)?;
-        let base_radius = self.number("the cone base radius", e)?;
-        let apex = self.vec3("a cone apex coordinate", e)?;
-        let apex_radius = self.number("the cone apex radius", e)?;
+        let base = self.vec3(What::Text("a cone base coordinate"), e)?;
+        let base_radius = self.number(What::Text("the cone base radius"), e)?;
+        let apex = self.vec3(What::Text("a cone apex coordinate"), e)?;
+        let apex_radius = self.number(What::Text("the cone apex radius"), e)?;
         if base == apex {
             return Err(self.error_at(&t, "cone base and apex are the same point".into()));
         }
@@ -396,10 +421,9 @@ impl<'a> Parser<'a> {
         let mut vertices = Vec::with_capacity(cap);
         let mut normals = Vec::with_capacity(if patch { cap } else { 0 });
         for i in 0..n {
-            let what = format!("a coordinate of vertex {} of {n}", i + 1);
-            vertices.push(self.vec3(&what, e)?);
+            vertices.push(self.vec3(What::Vertex { normal: false, i, n }, e)?);
             if patch {
-                normals.push(self.vec3(&format!("a normal component of vertex {} of {n}", i + 1), e)?);
+                normals.push(self.vec3(What::Vertex { normal: true, i, n }, e)?);
             }
         }
         let warnings = geometry_checks::polygon(&vertices, if patch { Some(&normals) } else { None });
@@ -428,9 +452,14 @@ impl<'a> Parser<'a> {
             }
             seen[i] = Some(k);
             match i {
-                0..=2 => vecs[i] = self.vec3(&format!("a `{}` coordinate", k.display()), e)?,
-                3 => angle = self.number("the field of view angle in degrees", e)?,
-                4 => hither = self.number("the hither distance", e)?,
+                0..=2 => {
+                    vecs[i] = self.vec3(
+                        What::Text(["a `from` coordinate", "an `at` coordinate", "an `up` coordinate"][i]),
+                        e,
+                    )?
+                }
+                3 => angle = self.number(What::Text("the field of view angle in degrees"), e)?,
+                4 => hither = self.number(What::Text("the hither distance"), e)?,
                 _ => {
                     for r in &mut res {
                         *r = self.count("a resolution in pixels", 1, MAX_RESOLUTION, e)?.0 as u32;

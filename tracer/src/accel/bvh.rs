@@ -200,28 +200,30 @@ fn bin_index(c: f32, lo: f32, scale: f32) -> usize {
 fn bin_axis(prims: &[BuildPrim], cb: &Aabb, axis: usize) -> [Bin; BINS] {
     let scale = BINS as f32 / cb.size()[axis];
     let lo = cb.min[axis];
-    let fill = |mut bins: [Bin; BINS], p: &BuildPrim| {
-        let b = &mut bins[bin_index(p.centroid[axis], lo, scale)];
-        b.bounds = b.bounds.union(p.bounds);
-        b.count += 1;
-        bins
-    };
-    let merge = |mut a: [Bin; BINS], b: [Bin; BINS]| {
-        for i in 0..BINS {
-            a[i].bounds = a[i].bounds.union(b[i].bounds);
-            a[i].count += b[i].count;
+    let fill = |chunk: &[BuildPrim]| {
+        let mut bins = [EMPTY_BIN; BINS];
+        for p in chunk {
+            let b = &mut bins[bin_index(p.centroid[axis], lo, scale)];
+            b.bounds = b.bounds.union(p.bounds);
+            b.count += 1;
         }
-        a
+        bins
     };
     if prims.len() > 1 << 15 {
         // Large nodes near the root: bin on all cores. The merge is exact
         // (unions and counts), so the tree does not depend on thread count.
-        prims
-            .par_chunks(1 << 13)
-            .map(|c| c.iter().fold([EMPTY_BIN; BINS], fill))
-            .reduce(|| [EMPTY_BIN; BINS], merge)
+        prims.par_chunks(1 << 13).map(fill).reduce(
+            || [EMPTY_BIN; BINS],
+            |mut a, b| {
+                for i in 0..BINS {
+                    a[i].bounds = a[i].bounds.union(b[i].bounds);
+                    a[i].count += b[i].count;
+                }
+                a
+            },
+        )
     } else {
-        prims.iter().fold([EMPTY_BIN; BINS], fill)
+        fill(prims)
     }
 }
 

@@ -1,0 +1,85 @@
+//! Small pieces every binary shares: argument value parsers, writing output
+//! to a file (atomically) or standard output, and the exit path.
+
+use anyhow::{bail, Context, Result};
+use glam::{DVec2, DVec3};
+use std::io::{self, BufWriter, Write};
+use std::path::Path;
+use std::process::ExitCode;
+
+fn numbers(s: &str, n: usize) -> Result<Vec<f64>, String> {
+    let v: Result<Vec<f64>, _> = s.split(',').map(|p| p.trim().parse::<f64>()).collect();
+    match v {
+        Ok(v) if v.len() == n && v.iter().all(|x| x.is_finite()) => Ok(v),
+        _ => Err(format!("expected {n} comma-separated numbers, found `{s}`")),
+    }
+}
+
+/// `R,G,B` or `X,Y,Z`.
+pub fn parse_triple(s: &str) -> Result<DVec3, String> {
+    numbers(s, 3).map(|v| DVec3::new(v[0], v[1], v[2]))
+}
+
+/// `X,Y`.
+pub fn parse_pair(s: &str) -> Result<DVec2, String> {
+    numbers(s, 2).map(|v| DVec2::new(v[0], v[1]))
+}
+
+/// `W,H` as two positive whole numbers.
+pub fn parse_resolution(s: &str) -> Result<[u32; 2], String> {
+    let parts: Vec<&str> = s.split(',').collect();
+    let parsed: Vec<u32> = parts.iter().filter_map(|p| p.trim().parse::<u32>().ok()).collect();
+    match parsed[..] {
+        [w, h] if parts.len() == 2 && w > 0 && h > 0 && w <= 65536 && h <= 65536 => Ok([w, h]),
+        _ => Err(format!("expected two whole numbers from 1 to 65536 as W,H, found `{s}`")),
+    }
+}
+
+/// Write through `f` to `path` (via a temporary file renamed into place, so
+/// a failure leaves no partial file) or to standard output when `None`.
+pub fn write_output(path: Option<&Path>, f: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<()> {
+    match path {
+        None => {
+            let stdout = io::stdout();
+            let mut w = BufWriter::new(stdout.lock());
+            match f(&mut w).and_then(|_| w.flush()) {
+                Ok(()) => Ok(()),
+                // A closed pipe (`| head`) is not an error worth a message.
+                Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
+                Err(e) => Err(e).context("writing to standard output"),
+            }
+        }
+        Some(path) => {
+            let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+            let mut tmp = tempfile::NamedTempFile::new_in(dir)
+                .with_context(|| format!("cannot create a file in {}", dir.display()))?;
+            {
+                let mut w = BufWriter::new(tmp.as_file_mut());
+                f(&mut w).and_then(|_| w.flush()).with_context(|| format!("writing {}", path.display()))?;
+            }
+            tmp.persist(path).with_context(|| format!("cannot write {}", path.display()))?;
+            Ok(())
+        }
+    }
+}
+
+/// Print the error chain and map to an exit code.
+pub fn exit(result: Result<()>, tool: &str) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("{tool}: error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Refuse to overwrite an input with an output unless asked.
+pub fn check_not_same(input: &Path, output: &Path) -> Result<()> {
+    if let (Ok(a), Ok(b)) = (input.canonicalize(), output.canonicalize()) {
+        if a == b {
+            bail!("{} is both input and output", input.display());
+        }
+    }
+    Ok(())
+}

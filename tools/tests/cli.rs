@@ -1,0 +1,177 @@
+//! End-to-end: the binaries a user runs, on small inputs.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn run(bin: &str, args: &[&str], stdin: Option<&[u8]>) -> Output {
+    use std::io::Write;
+    let mut cmd = Command::new(bin);
+    cmd.args(args).stdin(std::process::Stdio::piped()).stdout(std::process::Stdio::piped());
+    cmd.stderr(std::process::Stdio::piped());
+    let mut child = cmd.spawn().unwrap();
+    if let Some(input) = stdin {
+        child.stdin.take().unwrap().write_all(input).unwrap();
+    } else {
+        drop(child.stdin.take());
+    }
+    child.wait_with_output().unwrap()
+}
+
+const RENDER: &str = env!("CARGO_BIN_EXE_render");
+const PLANEGEN: &str = env!("CARGO_BIN_EXE_planegen");
+const SPHEREFLAKE: &str = env!("CARGO_BIN_EXE_sphereflake");
+
+fn spd(name: &str) -> String {
+    format!("{}/../scenes/spd/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+fn png(path: &Path) -> image::RgbImage {
+    image::open(path).unwrap().to_rgb8()
+}
+
+#[test]
+fn default_scene_renders_with_no_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("d.png");
+    let o = run(RENDER, &["-o", out.to_str().unwrap(), "--width", "64", "--height", "48", "-q"], None);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = png(&out);
+    assert_eq!(img.dimensions(), (64, 48));
+    // A real picture: many distinct colours, not a flat fill.
+    let mut colours: Vec<[u8; 3]> = img.pixels().map(|p| p.0).collect();
+    colours.sort();
+    colours.dedup();
+    assert!(colours.len() > 100, "{} colours", colours.len());
+}
+
+#[test]
+fn renders_a_file_and_stdin_identically() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b) = (dir.path().join("a.png"), dir.path().join("b.ppm"));
+    let o = run(
+        RENDER,
+        &[&spd("balls_s1.nff"), "-o", a.to_str().unwrap(), "--width", "40", "--height", "40"],
+        None,
+    );
+    assert!(o.status.success());
+    let src = std::fs::read(spd("balls_s1.nff")).unwrap();
+    let o = run(RENDER, &["-", "-o", b.to_str().unwrap(), "--width", "40", "--height", "40"], Some(&src));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(png(&a), png(&b));
+    assert!(o.stdout.is_empty(), "nothing on stdout unless asked");
+}
+
+#[test]
+fn floating_point_outputs_are_written() {
+    let dir = tempfile::tempdir().unwrap();
+    for ext in ["exr", "hdr"] {
+        let out = dir.path().join(format!("x.{ext}"));
+        let o = run(
+            RENDER,
+            &[&spd("tetra_s2.nff"), "-o", out.to_str().unwrap(), "--width", "16", "--height", "16"],
+            None,
+        );
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        assert!(std::fs::metadata(&out).unwrap().len() > 100);
+    }
+}
+
+#[test]
+fn stats_are_printed_when_asked() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("s.png");
+    let o = run(
+        RENDER,
+        &[&spd("balls_s1.nff"), "-o", out.to_str().unwrap(), "--spd-stats", "--width", "8", "--height", "8"],
+        None,
+    );
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(text.contains("eye 81,") || text.contains("eye 81"), "{text}");
+    assert!(text.contains("SPD test procedure"));
+}
+
+#[test]
+fn bad_input_fails_cleanly_and_leaves_no_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.nff");
+    std::fs::write(&bad, "b 0.0780.3610.753\n").unwrap();
+    let out = dir.path().join("bad.png");
+    let o = run(RENDER, &[bad.to_str().unwrap(), "-o", out.to_str().unwrap()], None);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("bad.nff:1:3"), "{err}");
+    assert!(err.contains("expected a colour component, found `0.0780.3610.753`"), "{err}");
+    assert!(!out.exists());
+    for args in [vec!["--spp", "0"], vec!["-o", "x.jpg"], vec!["--width", "0"]] {
+        let o = run(RENDER, &args, None);
+        assert!(!o.status.success(), "{args:?}");
+    }
+    let o = run(RENDER, &["/no/such/file.nff"], None);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("/no/such/file.nff"));
+}
+
+#[test]
+fn check_summarises_and_sets_the_exit_code() {
+    let o = run(RENDER, &["--check", &spd("balls_s1.nff"), &spd("gears_s1.nff")], None);
+    assert!(o.status.success());
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert_eq!(text.lines().count(), 2);
+    assert!(text.contains("147 primitives (147 polygons)"), "{text}");
+    let o = run(RENDER, &["--check", "-"], Some(b"s 0 0 0 1\n"));
+    assert!(!o.status.success());
+    let o = run(RENDER, &["--check", "--fragment", "-"], Some(b"s 0 0 0 1\n"));
+    assert!(o.status.success());
+}
+
+#[test]
+fn planegen_pipes_into_render() {
+    let board = run(PLANEGEN, &["--nx", "4", "--ny", "4"], None);
+    assert!(board.status.success());
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("board.png");
+    let o = run(
+        RENDER,
+        &["-", "-o", out.to_str().unwrap(), "--width", "32", "--height", "32"],
+        Some(&board.stdout),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(png(&out).dimensions(), (32, 32));
+}
+
+#[test]
+fn planegen_refuses_bad_arguments_and_protects_its_input() {
+    for args in [vec!["--nx", "0"], vec!["--sx", "-2"], vec!["--c1", "2,0,0"], vec!["--c1", "1,0"]] {
+        let o = run(PLANEGEN, &args, None);
+        assert!(!o.status.success(), "{args:?}");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("s.nff");
+    std::fs::copy(spd("balls_s1.nff"), &scene).unwrap();
+    let before = std::fs::read(&scene).unwrap();
+    let o = run(PLANEGEN, &["--nx", "2", "--ny", "2", "--append-to", scene.to_str().unwrap()], None);
+    assert!(o.status.success());
+    assert_eq!(std::fs::read(&scene).unwrap(), before, "input untouched without --in-place");
+    assert!(String::from_utf8(o.stdout).unwrap().matches("\np 4\n").count() == 5);
+    let o = run(
+        PLANEGEN,
+        &["--nx", "2", "--ny", "2", "--append-to", scene.to_str().unwrap(), "--in-place"],
+        None,
+    );
+    assert!(o.status.success());
+    assert_ne!(std::fs::read(&scene).unwrap(), before);
+    let bad = dir.path().join("bad.nff");
+    std::fs::write(&bad, "v\nfrom 1\n").unwrap();
+    let o = run(PLANEGEN, &["--append-to", bad.to_str().unwrap()], None);
+    assert!(!o.status.success());
+}
+
+#[test]
+fn sphereflake_level_2_matches_and_streams_to_a_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("b2.nff");
+    let o = run(SPHEREFLAKE, &["--level", "2", "-o", out.to_str().unwrap()], None);
+    assert!(o.status.success());
+    let o = run(RENDER, &["--check", out.to_str().unwrap()], None);
+    assert!(String::from_utf8(o.stdout).unwrap().contains("91 spheres"));
+    assert!(!run(SPHEREFLAKE, &["--level", "12"], None).status.success());
+}

@@ -1,0 +1,158 @@
+//! Grid, BVH and brute force agree on every hit; mailboxes change nothing but
+//! the work; the DDA visits every cell a ray crosses, in order.
+
+use glam::{DVec3, Vec3A};
+use nffkit_formats::{Primitive, Scene, Shape, SourceLine};
+use nffkit_tracer::accel::{BruteForce, Bvh, Grid, Intersector};
+use nffkit_tracer::geometry::Geometry;
+use nffkit_tracer::math::{Ray, RayQuery};
+use nffkit_tracer::prepare::{build_geometry, Material};
+use nffkit_tracer::stats::Counters;
+use proptest::prelude::*;
+
+fn random_scene(seed: u64, n: usize) -> Geometry {
+    let mut s = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    let mut rnd = move || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut scene = Scene::default();
+    for i in 0..n {
+        let c = DVec3::new(rnd() * 10.0 - 5.0, rnd() * 10.0 - 5.0, rnd() * 10.0 - 5.0);
+        let shape = match i % 4 {
+            0 => Shape::Sphere { center: c, radius: 0.1 + rnd() * 0.8 },
+            1 => Shape::Polygon {
+                vertices: (0..3).map(|_| c + DVec3::new(rnd(), rnd(), rnd()) * 2.0 - 1.0).collect(),
+            },
+            2 => Shape::Cone {
+                base: c,
+                base_radius: 0.1 + rnd() * 0.5,
+                apex: c + DVec3::new(rnd(), rnd(), rnd()) * 2.0 - 1.0,
+                apex_radius: rnd() * 0.3,
+            },
+            _ => Shape::Patch {
+                vertices: vec![c, c + DVec3::X, c + DVec3::new(rnd(), 1.0, rnd())],
+                normals: vec![DVec3::Z, DVec3::new(0.1, 0.0, 1.0), DVec3::new(0.0, 0.2, 1.0)],
+            },
+        };
+        scene.primitives.push(Primitive { shape, material: None, line: SourceLine(0) });
+    }
+    let m = Material { color: Vec3A::ONE, kd: 1.0, ks: 0.0, shine: 1.0, t: 0.0, ior: 1.0 };
+    build_geometry(&scene, &[m], false)
+}
+
+fn query(o: [f32; 3], d: [f32; 3]) -> Option<RayQuery> {
+    let d = Vec3A::from(d);
+    (d.length() > 1e-3).then(|| RayQuery::new(Ray::new(Vec3A::from(o), d), 0.0))
+}
+
+fn check<A: Intersector, B: Intersector>(g: &Geometry, a: &A, b: &B, q: &RayQuery) {
+    let (mut sa, mut sb) = (a.scratch(g), b.scratch(g));
+    let mut c = Counters::default();
+    let ha = a.intersect(g, q, f32::INFINITY, &mut sa, &mut c);
+    let hb = b.intersect(g, q, f32::INFINITY, &mut sb, &mut c);
+    assert_eq!(ha, hb);
+    for t_max in [0.5f32, 3.0, 8.0] {
+        assert_eq!(a.occluded(g, q, t_max, &mut sa, &mut c), b.occluded(g, q, t_max, &mut sb, &mut c));
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    #[test]
+    fn all_accelerators_find_the_same_hits(
+        seed in any::<u64>(),
+        n in 1usize..300,
+        rays in prop::collection::vec((prop::array::uniform3(-8.0f32..8.0), prop::array::uniform3(-1.0f32..1.0)), 40),
+        m in 0.0f32..4.0,
+    ) {
+        let g = random_scene(seed, n);
+        let bvh = Bvh::build(&g);
+        let grid = Grid::build(&g, m, true);
+        let grid_plain = Grid::build(&g, m, false);
+        for (o, d) in rays {
+            let Some(q) = query(o, d) else { continue };
+            check(&g, &BruteForce, &bvh, &q);
+            check(&g, &BruteForce, &grid, &q);
+            check(&g, &grid_plain, &grid, &q);
+        }
+    }
+}
+
+#[test]
+fn mailboxes_save_tests_without_changing_hits() {
+    let g = random_scene(7, 400);
+    let (with, without) = (Grid::build(&g, 4.0, true), Grid::build(&g, 4.0, false));
+    let (mut sw, mut so) = (with.scratch(&g), without.scratch(&g));
+    let (mut cw, mut co) = (Counters::default(), Counters::default());
+    for i in 0..2000 {
+        let a = i as f32 * 0.37;
+        let q =
+            query([-9.0, a.sin() * 4.0, a.cos() * 4.0], [1.0, (a * 1.3).sin() * 0.3, (a * 0.7).cos() * 0.3])
+                .unwrap();
+        let hw = with.intersect(&g, &q, f32::INFINITY, &mut sw, &mut cw);
+        let ho = without.intersect(&g, &q, f32::INFINITY, &mut so, &mut co);
+        assert_eq!(hw, ho);
+    }
+    assert!(cw.mailbox_hits > 0);
+    assert!(cw.total_tests() < co.total_tests());
+    assert_eq!(cw.total_tests() + cw.mailbox_hits, co.total_tests());
+}
+
+#[test]
+fn grid_with_m_zero_is_one_cell() {
+    let g = random_scene(3, 50);
+    let grid = Grid::build(&g, 0.0, true);
+    assert_eq!(grid.dims, [1, 1, 1]);
+}
+
+#[test]
+fn dda_visits_every_crossed_cell_in_order() {
+    let g = random_scene(11, 500);
+    let grid = Grid::build(&g, 2.0, false);
+    let (lo, hi) = (g_bounds_min(&g), g_bounds_max(&g));
+    for i in 0..300 {
+        let a = i as f32 * 0.618;
+        let o = [a.sin() * 9.0, (a * 1.7).cos() * 9.0, (a * 0.3).sin() * 9.0];
+        let d = [-o[0] + (a * 5.0).sin(), -o[1] + (a * 3.0).cos(), -o[2] + 0.5];
+        let q = query(o, d).unwrap();
+        let visited = grid.cells_along(&q, f32::INFINITY);
+        // Brute-force walk: sample the ray densely inside the grid; every cell
+        // met must appear among the visited ones, in the same order.
+        let mut walk: Vec<[u32; 3]> = Vec::new();
+        for k in 0..20000 {
+            let t = k as f32 * 0.002;
+            let p = q.ray.at(t);
+            if (0..3).any(|j| p[j] < lo[j] + 1e-3 || p[j] > hi[j] - 1e-3) {
+                continue;
+            }
+            let c = grid.cell_of(p);
+            if walk.last() != Some(&c) {
+                walk.push(c);
+            }
+        }
+        let mut pos = 0;
+        for c in &walk {
+            match visited[pos..].iter().position(|v| v == c) {
+                Some(k) => pos += k,
+                None => panic!("ray {i}: cell {c:?} crossed but not visited (visited {visited:?})"),
+            }
+        }
+        // Consecutive visited cells are face neighbours.
+        for w in visited.windows(2) {
+            let dist: i32 = (0..3).map(|j| (w[0][j] as i32 - w[1][j] as i32).abs()).sum();
+            assert_eq!(dist, 1);
+        }
+    }
+}
+
+fn g_bounds_min(g: &Geometry) -> Vec3A {
+    (0..g.len() as u32).map(|i| g.bounds(i).min).fold(Vec3A::splat(f32::INFINITY), |a, b| a.min(b))
+}
+
+fn g_bounds_max(g: &Geometry) -> Vec3A {
+    (0..g.len() as u32).map(|i| g.bounds(i).max).fold(Vec3A::splat(f32::NEG_INFINITY), |a, b| a.max(b))
+}
