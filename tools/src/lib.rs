@@ -3,6 +3,7 @@
 //! tools call exactly the same code.
 #![forbid(unsafe_code)]
 
+pub mod aademo;
 pub mod check;
 pub mod cli_util;
 pub mod default_scene;
@@ -10,3 +11,4 @@ pub mod input;
 pub mod planegen;
 pub mod render_cli;
 pub mod sphereflake;
+pub mod text;
