@@ -11,4 +11,5 @@ pub mod input;
 pub mod planegen;
 pub mod render_cli;
 pub mod sphereflake;
+pub mod table1;
 pub mod text;

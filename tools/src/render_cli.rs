@@ -274,6 +274,7 @@ pub fn settings(args: &Args) -> Result<RenderSettings> {
         },
         spd_corners: args.spd_stats,
         cost: args.aov_cost.is_some(),
+        row_stride: 1,
     })
 }
 

@@ -175,3 +175,36 @@ fn sphereflake_level_2_matches_and_streams_to_a_file() {
     assert!(String::from_utf8(o.stdout).unwrap().contains("91 spheres"));
     assert!(!run(SPHEREFLAKE, &["--level", "12"], None).status.success());
 }
+
+#[test]
+fn cost_image_has_a_colour_bar_and_accelerators_agree() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut images = Vec::new();
+    for accel in ["none", "grid", "bvh"] {
+        let (out, cost) =
+            (dir.path().join(format!("{accel}.png")), dir.path().join(format!("{accel}-cost.png")));
+        let o = run(
+            RENDER,
+            &[
+                &spd("balls_s2.nff"),
+                "-o",
+                out.to_str().unwrap(),
+                "--width",
+                "32",
+                "--height",
+                "24",
+                "--accel",
+                accel,
+                "--aov-cost",
+                cost.to_str().unwrap(),
+                "-q",
+            ],
+            None,
+        );
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        assert_eq!(png(&cost).dimensions(), (32, 24 + 16));
+        images.push(png(&out));
+    }
+    assert_eq!(images[0], images[1]);
+    assert_eq!(images[0], images[2]);
+}

@@ -37,6 +37,9 @@ pub struct RenderSettings {
     pub spd_corners: bool,
     /// Record traversal work per pixel.
     pub cost: bool,
+    /// Render only every n-th row (1: all), leaving the others black; for
+    /// estimating the time of very slow renders from a subset of pixels.
+    pub row_stride: u32,
 }
 
 impl Default for RenderSettings {
@@ -50,6 +53,7 @@ impl Default for RenderSettings {
             light_shape: LightShape::Square,
             spd_corners: false,
             cost: false,
+            row_stride: 1,
         }
     }
 }
@@ -119,8 +123,13 @@ fn render_with<I: Intersector>(
         RenderOutput { film, cost, counters, seconds: 0.0 }
     } else {
         let grid = Grid2 { width: w, height: h };
-        let (pixels, cost, counters) =
-            run_tiles(&grid, accel, scene, progress, |x, y, th| pixel(&shader, &filter, settings, x, y, th));
+        let stride = settings.row_stride.max(1);
+        let (pixels, cost, counters) = run_tiles(&grid, accel, scene, progress, |x, y, th| {
+            if y % stride != 0 {
+                return Vec3A::ZERO;
+            }
+            pixel(&shader, &filter, settings, x, y, th)
+        });
         RenderOutput { film: Film { width: w, height: h, pixels }, cost, counters, seconds: 0.0 }
     };
     RenderOutput {

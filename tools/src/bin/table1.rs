@@ -1,0 +1,35 @@
+//! `table1`: reproduce the seed's Table 1. See `table1 --help`.
+
+use anyhow::Result;
+use clap::Parser;
+use nffkit_tools::cli_util;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// Reproduce the seed's Table 1: balls (levels 1, 2, 4) and mount (levels 1,
+/// 5, 7) at 512x512, depth 6, 1 spp, with no acceleration, the uniform grid
+/// and the BVH; prints a markdown table with speedups and Mrays/s.
+#[derive(Parser, Debug)]
+#[command(version, about, long_about)]
+struct Args {
+    /// Folder with the SPD mount files (mount_s1/s5/s7.nff).
+    #[arg(long, default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/spd"))]
+    spd_dir: PathBuf,
+    /// Image size.
+    #[arg(long, default_value_t = 512)]
+    size: u32,
+    /// Time cap per brute-force cell in seconds; beyond it the time is
+    /// estimated from a subset of rows.
+    #[arg(long, default_value_t = 30.0)]
+    cap: f64,
+}
+
+fn run(a: &Args) -> Result<()> {
+    let t = nffkit_tools::table1::table(&a.spd_dir, a.size, a.cap, &|what| eprintln!("timing {what}"))?;
+    print!("{t}");
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    cli_util::exit(run(&Args::parse()), "table1")
+}
