@@ -7,6 +7,7 @@ pub mod aademo;
 pub mod check;
 pub mod cli_util;
 pub mod default_scene;
+pub mod golden;
 pub mod input;
 pub mod planegen;
 pub mod render_cli;

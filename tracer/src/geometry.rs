@@ -322,16 +322,23 @@ pub fn intersect_triangle(tri: &Triangle, q: &RayQuery, t_max: f32, cull: Cull) 
 
 /// Ray against the open surface |p⊥| = r0 + slope·h, 0 ≤ h ≤ height, in
 /// world space with the axis frame expressed by dot products.
+///
+/// Computed in f64: the quadratic loses too many digits in f32 for rays
+/// leaving the surface itself (shadow rays would see speckles of self
+/// shadowing), and cones are few, so the cost does not matter.
 #[inline]
 pub fn intersect_cone(c: &Cone, q: &RayQuery, t_max: f32, cull: Cull) -> Option<f32> {
-    let (o, d) = (q.ray.o - c.base, q.ray.d);
-    let (oa, da) = (o.dot(c.axis), d.dot(c.axis));
-    let (op, dp) = (o - c.axis * oa, d - c.axis * da);
-    let r = c.r0 + c.slope * oa;
-    let a = dp.length_squared() - c.slope * c.slope * da * da;
-    let b = 2.0 * (op.dot(dp) - c.slope * r * da);
+    let d64 = |v: Vec3A| glam::DVec3::new(v.x as f64, v.y as f64, v.z as f64);
+    let axis = d64(c.axis);
+    let (o, d) = (d64(q.ray.o) - d64(c.base), d64(q.ray.d));
+    let (slope, r0, height) = (c.slope as f64, c.r0 as f64, c.height as f64);
+    let (oa, da) = (o.dot(axis), d.dot(axis));
+    let (op, dp) = (o - axis * oa, d - axis * da);
+    let r = r0 + slope * oa;
+    let a = dp.length_squared() - slope * slope * da * da;
+    let b = 2.0 * (op.dot(dp) - slope * r * da);
     let cc = op.length_squared() - r * r;
-    let (t0, t1) = if a.abs() < 1e-12 {
+    let (t0, t1) = if a.abs() < 1e-14 {
         if b == 0.0 {
             return None;
         }
@@ -347,23 +354,24 @@ pub fn intersect_cone(c: &Cone, q: &RayQuery, t_max: f32, cull: Cull) -> Option<
         (x.min(y), x.max(y))
     };
     for t in [t0, t1] {
-        if !(t > q.t_min && t < t_max) {
+        let tf = t as f32;
+        if !(tf > q.t_min && tf < t_max) {
             continue;
         }
         let h = oa + t * da;
-        if h < 0.0 || h > c.height || c.r0 + c.slope * h < 0.0 {
+        if h < 0.0 || h > height || r0 + slope * h < 0.0 {
             continue; // beyond the ends, or on the mirrored nappe
         }
         if cull != Cull::None {
             let p = o + d * t;
-            let radial = p - c.axis * h;
-            let front = d.dot(radial - c.axis * (c.slope * radial.length())) < 0.0;
+            let radial = p - axis * h;
+            let front = d.dot(radial - axis * (slope * radial.length())) < 0.0;
             if front == (cull == Cull::Back) {
-                return Some(t);
+                return Some(tf);
             }
             continue;
         }
-        return Some(t);
+        return Some(tf);
     }
     None
 }
