@@ -1,5 +1,5 @@
 //! nffkit's file layer: the [`Scene`] data model, the NFF reader and writer
-//! ([`nff`]), and image files ([`image_io`]).
+//! ([`nff`]), OBJ and glTF import ([`mesh`]), and image files ([`image_io`]).
 //!
 //! This crate knows nothing about ray tracing. It turns bytes into plain
 //! records (with the source line each came from) and back; the `tracer` crate
@@ -8,6 +8,7 @@
 #![deny(missing_docs)]
 
 pub mod image_io;
+pub mod mesh;
 pub mod nff;
 pub mod scene;
 

@@ -67,6 +67,8 @@ pub struct SourceSpec {
     pub sphereflake: Option<SphereflakeSpec>,
     /// A file under `scenes/`.
     pub file: Option<String>,
+    /// A mesh under `scenes/`, converted by mesh2nff (default options).
+    pub mesh: Option<String>,
 }
 
 /// planegen options.
@@ -111,10 +113,16 @@ pub fn load_catalogue(scenes: &Path) -> Result<Catalogue> {
 /// Make a case's scene with the generators' library code.
 pub fn scene_of(case: &Case, scenes: &Path) -> Result<Scene> {
     let s = &case.source;
-    let chosen =
-        s.default as u8 + s.planegen.is_some() as u8 + s.sphereflake.is_some() as u8 + s.file.is_some() as u8;
+    let chosen = s.default as u8
+        + s.planegen.is_some() as u8
+        + s.sphereflake.is_some() as u8
+        + s.file.is_some() as u8
+        + s.mesh.is_some() as u8;
     if chosen != 1 {
-        bail!("case {}: the source must name exactly one of default, planegen, sphereflake, file", case.name);
+        bail!(
+            "case {}: the source must name exactly one of default, planegen, sphereflake, file, mesh",
+            case.name
+        );
     }
     Ok(if s.default {
         default_scene()
@@ -123,6 +131,10 @@ pub fn scene_of(case: &Case, scenes: &Path) -> Result<Scene> {
     } else if let Some(f) = &s.sphereflake {
         let floor = f.checker.map_or(Floor::Square, |[x, y]| Floor::Checker(x, y));
         Sphereflake { level: f.level, resolution: [512, 512], floor }.scene()
+    } else if let Some(m) = &s.mesh {
+        let mesh = nffkit_formats::mesh::load(&scenes.join(m))?;
+        let (text, _) = crate::mesh2nff::write(&mesh, &crate::mesh2nff::Options::default(), Vec::new())?;
+        nff::parse(&text, &ParseOptions::default()).map_err(|e| anyhow::anyhow!("{m} converted: {e}"))?.scene
     } else {
         let path = scenes.join(s.file.as_ref().expect("one source is set"));
         let src = std::fs::read(&path).with_context(|| format!("cannot read {}", path.display()))?;

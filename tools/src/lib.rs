@@ -9,6 +9,7 @@ pub mod cli_util;
 pub mod default_scene;
 pub mod golden;
 pub mod input;
+pub mod mesh2nff;
 pub mod planegen;
 pub mod render_cli;
 pub mod sphereflake;

@@ -1,0 +1,102 @@
+//! Meshes imported from OBJ ([`obj`]) and glTF 2.0 ([`gltf`]): polygons in
+//! world space with optional per-corner normals and NFF materials, in a
+//! compact layout (a million triangles is a few tens of megabytes).
+
+pub mod gltf;
+pub mod obj;
+
+use crate::scene::Material;
+use glam::DVec3;
+use std::path::Path;
+use thiserror::Error;
+
+/// One corner of a face.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Corner {
+    /// Index into [`Mesh::positions`] (shared between faces, for smoothing).
+    pub position: u32,
+    /// The normal the file gives this corner, if any.
+    pub normal: Option<DVec3>,
+}
+
+/// A face: `count` consecutive corners starting at `first`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Face {
+    /// First corner.
+    pub first: u32,
+    /// Number of corners (3 or more).
+    pub count: u32,
+    /// Index into [`Mesh::materials`].
+    pub material: u32,
+}
+
+/// An imported mesh.
+#[derive(Debug, Clone, Default)]
+pub struct Mesh {
+    /// World-space positions.
+    pub positions: Vec<DVec3>,
+    /// Face corners.
+    pub corners: Vec<Corner>,
+    /// Faces, counter-clockwise seen from the front.
+    pub faces: Vec<Face>,
+    /// Materials; faces without one use index 0, the default.
+    pub materials: Vec<Material>,
+    /// Things that were dropped or approximated, for the user.
+    pub warnings: Vec<String>,
+}
+
+impl Mesh {
+    /// The corners of a face.
+    pub fn corners_of(&self, f: &Face) -> &[Corner] {
+        &self.corners[f.first as usize..(f.first + f.count) as usize]
+    }
+}
+
+/// Why a mesh could not be imported.
+#[derive(Debug, Error)]
+pub enum MeshError {
+    /// The file could not be read.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// The file is broken; the message says where.
+    #[error("{path}: {message}")]
+    Invalid {
+        /// The file.
+        path: String,
+        /// What is wrong (with the line, accessor or buffer where known).
+        message: String,
+    },
+}
+
+impl MeshError {
+    pub(crate) fn invalid(path: &Path, message: impl Into<String>) -> MeshError {
+        MeshError::Invalid { path: path.display().to_string(), message: message.into() }
+    }
+}
+
+/// Import by extension: `.obj`, `.gltf` or `.glb`.
+pub fn load(path: &Path) -> Result<Mesh, MeshError> {
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let mesh = match ext.as_deref() {
+        Some("obj") => obj::load(path)?,
+        Some("gltf") | Some("glb") => gltf::load(path)?,
+        _ => {
+            return Err(MeshError::invalid(
+                path,
+                "not a mesh file this tool reads (use .obj, .gltf or .glb)",
+            ));
+        }
+    };
+    if let Some((i, _)) = mesh.positions.iter().enumerate().find(|(_, p)| !p.is_finite()) {
+        return Err(MeshError::invalid(path, format!("position {i} is not a finite number")));
+    }
+    if mesh.faces.is_empty() {
+        return Err(MeshError::invalid(path, "the mesh has no faces"));
+    }
+    Ok(mesh)
+}

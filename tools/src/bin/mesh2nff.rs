@@ -1,0 +1,96 @@
+//! `mesh2nff`: convert OBJ and glTF 2.0 meshes to NFF. See `mesh2nff --help`.
+
+use anyhow::{Context, Result};
+use clap::{Parser, ValueEnum};
+use nffkit_tools::cli_util;
+use nffkit_tools::mesh2nff::{write, Options, Up};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// Convert an OBJ (with MTL) or glTF 2.0 (.gltf, .glb) mesh into an NFF scene
+/// that renders as it is: polygons or smooth patches, materials as `f`
+/// lines, and (unless --no-view) a view, lights and background framing the
+/// model. Coordinates stay the source's world coordinates unless --center,
+/// --fit or --scale is given.
+#[derive(Parser, Debug)]
+#[command(version, about, long_about)]
+struct Args {
+    /// The model.
+    model: PathBuf,
+    /// Output file (default: standard output). Written atomically.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Geometry and materials only, for appending to another scene.
+    #[arg(long)]
+    no_view: bool,
+    /// Image size of the view, W,H.
+    #[arg(long, value_parser = cli_util::parse_resolution, default_value = "512,512")]
+    resolution: [u32; 2],
+    /// The source's up axis (only the view uses it).
+    #[arg(long, value_enum, default_value_t = UpArg::Y)]
+    up: UpArg,
+    /// Scale positions by this factor.
+    #[arg(long, default_value_t = 1.0)]
+    scale: f64,
+    /// Move the bounding box centre to the origin.
+    #[arg(long)]
+    center: bool,
+    /// Scale (about the box centre, which moves to the origin) so the box's
+    /// largest side is 1.
+    #[arg(long)]
+    fit: bool,
+    /// Write flat `p` polygons, dropping normals.
+    #[arg(long, conflicts_with = "smooth")]
+    flat: bool,
+    /// Compute area-weighted vertex normals for faces without normals.
+    #[arg(long)]
+    smooth: bool,
+    /// Print nothing but errors.
+    #[arg(short, long)]
+    quiet: bool,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum UpArg {
+    Y,
+    Z,
+}
+
+fn run(a: &Args) -> Result<()> {
+    if !(a.scale.is_finite() && a.scale != 0.0) {
+        anyhow::bail!("--scale must be a finite, non-zero number");
+    }
+    let mesh = nffkit_formats::mesh::load(&a.model).context("cannot convert")?;
+    if !a.quiet {
+        for w in &mesh.warnings {
+            eprintln!("mesh2nff: warning: {}: {w}", a.model.display());
+        }
+    }
+    let opts = Options {
+        view: !a.no_view,
+        resolution: a.resolution,
+        up: if matches!(a.up, UpArg::Z) { Up::Z } else { Up::Y },
+        scale: a.scale,
+        center: a.center,
+        fit: a.fit,
+        flat: a.flat,
+        smooth: a.smooth,
+    };
+    let mut summary = None;
+    cli_util::write_output(a.output.as_deref(), |w| {
+        let (_, s) = write(&mesh, &opts, w).map_err(std::io::Error::other)?;
+        summary = Some(s);
+        Ok(())
+    })?;
+    if let (false, Some(s)) = (a.quiet, summary) {
+        eprintln!(
+            "mesh2nff: {} polygons, {} patches ({} faces triangulated, {} degenerate dropped)",
+            s.polygons, s.patches, s.triangulated, s.degenerate
+        );
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    cli_util::exit(run(&Args::parse()), "mesh2nff")
+}

@@ -1,0 +1,322 @@
+//! mesh2nff on small meshes written by the tests: OBJ (normals, n-gons,
+//! negative indices, materials) and glTF (hierarchy, mirroring, strips,
+//! fans, GLB, embedded buffers, sparse accessors), checked through the
+//! project's own NFF reader.
+
+use glam::DVec3;
+use nffkit_formats::nff::{self, ParseOptions};
+use nffkit_formats::{Scene, Shape};
+use nffkit_tools::mesh2nff::{write, Options, Summary};
+use std::path::{Path, PathBuf};
+
+fn convert(path: &Path, opts: &Options) -> (Scene, Summary, Vec<String>) {
+    let mesh = nffkit_formats::mesh::load(path).unwrap_or_else(|e| panic!("{e}"));
+    let (text, summary) = write(&mesh, opts, Vec::new()).unwrap();
+    let parsed = nff::parse(&text, &ParseOptions { fragment: !opts.view, ..Default::default() })
+        .unwrap_or_else(|e| panic!("{e}\n{}", String::from_utf8_lossy(&text)));
+    (parsed.scene, summary, mesh.warnings)
+}
+
+fn write_file(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn vertices(s: &Shape) -> &[DVec3] {
+    match s {
+        Shape::Polygon { vertices } | Shape::Patch { vertices, .. } => vertices,
+        _ => panic!("not a polygon"),
+    }
+}
+
+fn normal(s: &Shape) -> DVec3 {
+    let v = vertices(s);
+    (v[1] - v[0]).cross(v[2] - v[1]).normalize()
+}
+
+const CUBE: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n";
+// Faces counter-clockwise seen from outside.
+const CUBE_FACES: &str = "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+
+#[test]
+fn obj_cube_without_normals_gives_outward_quads() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write_file(dir.path(), "cube.obj", &format!("{CUBE}{CUBE_FACES}"));
+    let (scene, summary, _) = convert(&p, &Options::default());
+    assert_eq!((summary.polygons, summary.patches), (6, 0));
+    let c = DVec3::splat(0.5);
+    for prim in &scene.primitives {
+        let v = vertices(&prim.shape);
+        assert_eq!(v.len(), 4, "planar convex quads stay whole");
+        assert!(normal(&prim.shape).dot(v[0] - c) > 0.0, "winding faces outwards");
+    }
+    let b = scene.bounds().unwrap();
+    assert_eq!((b.0, b.1), (DVec3::ZERO, DVec3::ONE), "world coordinates unchanged");
+    assert!(scene.view.is_some() && !scene.lights.is_empty());
+}
+
+#[test]
+fn obj_with_normals_gives_patches_and_smooth_computes_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\n";
+    let (scene, summary, _) = convert(&write_file(dir.path(), "t.obj", text), &Options::default());
+    assert_eq!(summary.patches, 1);
+    assert!(matches!(&scene.primitives[0].shape, Shape::Patch { normals, .. } if normals[0] == DVec3::Z));
+    let p = write_file(dir.path(), "cube.obj", &format!("{CUBE}{CUBE_FACES}"));
+    let (_, s, _) = convert(&p, &Options { smooth: true, ..Default::default() });
+    assert_eq!(s.patches, 6);
+    let (_, s, _) =
+        convert(&write_file(dir.path(), "t2.obj", text), &Options { flat: true, ..Default::default() });
+    assert_eq!((s.polygons, s.patches), (1, 0));
+}
+
+#[test]
+fn obj_concave_ngon_is_ear_clipped_and_negative_indices_work() {
+    let dir = tempfile::tempdir().unwrap();
+    // An L-shaped hexagon, given with relative (negative) indices.
+    let text = "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\nv 1 2 0\nv 0 2 0\nf -6 -5 -4 -3 -2 -1\nv 5 0 0\nv 6 0 0\nv 6 1 0\nv 5 1 0\nf -4 -3 -2 -1\n";
+    let (scene, summary, _) = convert(&write_file(dir.path(), "l.obj", text), &Options::default());
+    assert_eq!(summary.triangulated, 1);
+    assert_eq!(scene.primitives.len(), 4 + 1);
+    for prim in &scene.primitives {
+        assert!(normal(&prim.shape).z > 0.0);
+    }
+}
+
+#[test]
+fn obj_materials_and_missing_mtl() {
+    let dir = tempfile::tempdir().unwrap();
+    write_file(dir.path(), "m.mtl", "newmtl red\nKd 0.8 0.2 0.1\nKs 0.5 0.5 0.5\nNs 40\nd 0.75\nNi 1.3\n");
+    let text = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n";
+    let (scene, _, _) = convert(&write_file(dir.path(), "a.obj", text), &Options::default());
+    let m = scene.material_of(&scene.primitives[0]);
+    assert!((m.color - DVec3::new(1.0, 0.25, 0.125)).length() < 1e-9);
+    assert_eq!((m.kd, m.ks, m.shine, m.t, m.ior), (0.8, 0.5, 40.0, 0.25, 1.3));
+    let text = "mtllib nowhere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    let (scene, _, warnings) = convert(&write_file(dir.path(), "b.obj", text), &Options::default());
+    assert_eq!(scene.primitives.len(), 1);
+    assert!(warnings.iter().any(|w| w.contains("nowhere.mtl")), "{warnings:?}");
+}
+
+#[test]
+fn obj_missing_normal_index_keeps_the_face() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//7 3//1\n";
+    let (scene, _, warnings) = convert(&write_file(dir.path(), "n.obj", text), &Options::default());
+    assert_eq!(scene.primitives.len(), 1);
+    assert!(warnings.iter().any(|w| w.contains("dropped")));
+}
+
+#[test]
+fn bad_meshes_are_refused_with_the_file_named() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in [
+        ("range.obj", "v 0 0 0\nf 1 2 3\n"),
+        ("empty.obj", "v 0 0 0\n"),
+        ("nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+        ("x.txt", "hello"),
+        ("broken.gltf", "{ not json"),
+    ] {
+        let p = write_file(dir.path(), name, text);
+        let e = nffkit_formats::mesh::load(&p).err().unwrap_or_else(|| panic!("{name} accepted")).to_string();
+        assert!(e.contains(name), "{e}");
+    }
+    let gltf = gltf_json(&[0.0f32; 9], None, "\"extensionsRequired\": [\"KHR_draco_mesh_compression\"], \"extensionsUsed\": [\"KHR_draco_mesh_compression\"],", 4, "", None);
+    let e = nffkit_formats::mesh::load(&write_file(dir.path(), "draco.gltf", &gltf)).unwrap_err().to_string();
+    assert!(e.contains("KHR_draco_mesh_compression"), "{e}");
+    let missing = r#"{"asset":{"version":"2.0"},"buffers":[{"uri":"gone.bin","byteLength":36}]}"#;
+    let e = nffkit_formats::mesh::load(&write_file(dir.path(), "m.gltf", missing)).unwrap_err().to_string();
+    assert!(e.contains("m.gltf") && e.contains("buffers"), "{e}");
+}
+
+fn base64(data: &[u8]) -> String {
+    const T: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::new();
+    for c in data.chunks(3) {
+        let n = (c[0] as u32) << 16 | (*c.get(1).unwrap_or(&0) as u32) << 8 | *c.get(2).unwrap_or(&0) as u32;
+        for k in 0..4 {
+            out.push(if k <= c.len() { T[(n >> (18 - 6 * k) & 63) as usize] as char } else { '=' });
+        }
+    }
+    out
+}
+
+/// A glTF with one mesh of `positions` (and optional u16 `indices`) in one
+/// embedded buffer; `nodes` is the JSON of the node list.
+fn gltf_json(
+    positions: &[f32],
+    indices: Option<&[u16]>,
+    extra: &str,
+    mode: u32,
+    nodes: &str,
+    sparse: Option<&str>,
+) -> String {
+    let mut bin: Vec<u8> = positions.iter().flat_map(|f| f.to_le_bytes()).collect();
+    let pos_len = bin.len();
+    if let Some(ix) = indices {
+        bin.extend(ix.iter().flat_map(|i| i.to_le_bytes()));
+        while bin.len() % 4 != 0 {
+            bin.push(0);
+        }
+    }
+    let n = positions.len() / 3;
+    let (lo, hi) = positions.chunks(3).fold(([f32::MAX; 3], [f32::MIN; 3]), |(mut lo, mut hi), p| {
+        for i in 0..3 {
+            lo[i] = lo[i].min(p[i]);
+            hi[i] = hi[i].max(p[i]);
+        }
+        (lo, hi)
+    });
+    let idx_view = indices.map_or(String::new(), |ix| {
+        format!(",{{\"buffer\":0,\"byteOffset\":{pos_len},\"byteLength\":{}}}", ix.len() * 2)
+    });
+    let idx_acc = indices.map_or(String::new(), |ix| {
+        format!(",{{\"bufferView\":1,\"componentType\":5123,\"count\":{},\"type\":\"SCALAR\"}}", ix.len())
+    });
+    let indices_attr = if indices.is_some() { ",\"indices\":1" } else { "" };
+    let sparse = sparse.map_or(String::new(), |s| format!(",\"sparse\":{s}"));
+    let nodes = if nodes.is_empty() { r#"[{"mesh":0}]"# } else { nodes };
+    format!(
+        r#"{{"asset":{{"version":"2.0"}},{extra}
+"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":{nodes},
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"mode":{mode}{indices_attr}}}]}}],
+"buffers":[{{"byteLength":{},"uri":"data:application/octet-stream;base64,{}"}}],
+"bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":{pos_len}}}{idx_view}],
+"accessors":[{{"bufferView":0,"componentType":5126,"count":{n},"type":"VEC3","min":{lo:?},"max":{hi:?}{sparse}}}{idx_acc}]}}"#,
+        bin.len(),
+        base64(&bin)
+    )
+}
+
+const TRI: [f32; 9] = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+
+#[test]
+fn gltf_hierarchy_transforms_and_instancing() {
+    let dir = tempfile::tempdir().unwrap();
+    // Root translated by (10,0,0) and scaled 2; child rotated 90 degrees
+    // about z and translated (0,5,0); both instance mesh 0.
+    let nodes = r#"[{"mesh":0,"translation":[10,0,0],"scale":[2,2,2],"children":[1]},
+                    {"mesh":0,"translation":[0,5,0],"rotation":[0,0,0.7071067811865476,0.7071067811865476]}]"#;
+    let p = write_file(dir.path(), "h.gltf", &gltf_json(&TRI, None, "", 4, nodes, None));
+    let (scene, _, _) = convert(&p, &Options::default());
+    assert_eq!(scene.primitives.len(), 2, "one triangle per instance");
+    let root = vertices(&scene.primitives[0].shape);
+    assert!((root[1] - DVec3::new(12.0, 0.0, 0.0)).length() < 1e-6);
+    // Child: world = T(10,0,0) S2 * T(0,5,0) Rz90: (1,0,0) -> (0,1,0) -> (0,6,0) -> (0,12,0)+(10,0,0)
+    let child = vertices(&scene.primitives[1].shape);
+    assert!((child[1] - DVec3::new(10.0, 12.0, 0.0)).length() < 1e-5, "{:?}", child[1]);
+    for prim in &scene.primitives {
+        assert!(normal(&prim.shape).z > 0.99);
+    }
+}
+
+#[test]
+fn gltf_mirrored_node_keeps_faces_outward() {
+    let dir = tempfile::tempdir().unwrap();
+    let nodes = r#"[{"mesh":0,"scale":[-1,1,1]}]"#;
+    let p = write_file(dir.path(), "m.gltf", &gltf_json(&TRI, None, "", 4, nodes, None));
+    let (scene, _, _) = convert(&p, &Options::default());
+    assert!(normal(&scene.primitives[0].shape).z > 0.99, "winding flipped back");
+}
+
+#[test]
+fn gltf_strips_fans_indices_and_degenerates() {
+    let dir = tempfile::tempdir().unwrap();
+    let quad = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0];
+    // Strip 0,1,2,3 -> two triangles, both facing +z.
+    let (scene, _, _) = convert(
+        &write_file(dir.path(), "s.gltf", &gltf_json(&quad, None, "", 5, "", None)),
+        &Options::default(),
+    );
+    assert_eq!(scene.primitives.len(), 2);
+    assert!(scene.primitives.iter().all(|p| normal(&p.shape).z > 0.99));
+    // Fan 0,1,3,2 -> two triangles.
+    let (scene, _, _) = convert(
+        &write_file(dir.path(), "f.gltf", &gltf_json(&quad, Some(&[0, 1, 3, 2]), "", 6, "", None)),
+        &Options::default(),
+    );
+    assert_eq!(scene.primitives.len(), 2);
+    assert!(scene.primitives.iter().all(|p| normal(&p.shape).z > 0.99));
+    // Strip with a stitching repeat: degenerate triangles dropped, warned.
+    let (scene, _, w) = convert(
+        &write_file(dir.path(), "d.gltf", &gltf_json(&quad, Some(&[0, 1, 2, 2, 3]), "", 5, "", None)),
+        &Options::default(),
+    );
+    assert!(scene.primitives.len() < 3);
+    assert!(w.iter().any(|w| w.contains("degenerate")), "{w:?}");
+}
+
+#[test]
+fn gltf_sparse_accessor_moves_a_vertex() {
+    let dir = tempfile::tempdir().unwrap();
+    // Sparse: vertex 1 replaced by (3,0,0). Indices and values appended as
+    // a second buffer in a data URI.
+    let mut extra_bin: Vec<u8> = vec![1, 0, 0, 0];
+    extra_bin.extend([3.0f32, 0.0, 0.0].iter().flat_map(|f| f.to_le_bytes()));
+    let json = gltf_json(
+        &TRI,
+        None,
+        "",
+        4,
+        "",
+        Some(r#"{"count":1,"indices":{"bufferView":1,"componentType":5125},"values":{"bufferView":2}}"#),
+    );
+    let json = json
+        .replace(
+            "{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36}]",
+            "{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36},{\"buffer\":1,\"byteOffset\":0,\"byteLength\":4},{\"buffer\":1,\"byteOffset\":4,\"byteLength\":12}]",
+        )
+        .replace(
+            "\"buffers\":[",
+            &format!("\"buffers\":[{{\"byteLength\":16,\"uri\":\"data:application/octet-stream;base64,{}\"}},", base64(&extra_bin)),
+        )
+        .replace("\"buffer\":0,", "\"buffer\":9,")
+        .replace("\"buffer\":1,", "\"buffer\":0,")
+        .replace("\"buffer\":9,", "\"buffer\":1,");
+    let (scene, _, _) = convert(&write_file(dir.path(), "sp.gltf", &json), &Options::default());
+    let v = vertices(&scene.primitives[0].shape);
+    assert!(v.iter().any(|p| (*p - DVec3::new(3.0, 0.0, 0.0)).length() < 1e-6), "{v:?}");
+}
+
+#[test]
+fn glb_loads_like_gltf() {
+    let dir = tempfile::tempdir().unwrap();
+    let bin: Vec<u8> = TRI.iter().flat_map(|f| f.to_le_bytes()).collect();
+    let json = r#"{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
+"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"buffers":[{"byteLength":36}],
+"bufferViews":[{"buffer":0,"byteLength":36}],
+"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}]}"#;
+    let mut j = json.as_bytes().to_vec();
+    while j.len() % 4 != 0 {
+        j.push(b' ');
+    }
+    let total = 12 + 8 + j.len() + 8 + bin.len();
+    let mut glb = Vec::new();
+    glb.extend(b"glTF");
+    glb.extend(2u32.to_le_bytes());
+    glb.extend((total as u32).to_le_bytes());
+    glb.extend((j.len() as u32).to_le_bytes());
+    glb.extend(b"JSON");
+    glb.extend(&j);
+    glb.extend((bin.len() as u32).to_le_bytes());
+    glb.extend(b"BIN\0");
+    glb.extend(&bin);
+    let p = dir.path().join("t.glb");
+    std::fs::write(&p, glb).unwrap();
+    let (scene, _, _) = convert(&p, &Options::default());
+    assert_eq!(scene.primitives.len(), 1);
+    let b = scene.bounds().unwrap();
+    assert_eq!((b.0, b.1), (DVec3::ZERO, DVec3::new(1.0, 1.0, 0.0)));
+}
+
+#[test]
+fn no_view_fit_and_center() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write_file(dir.path(), "cube.obj", &format!("{CUBE}{CUBE_FACES}"));
+    let (scene, _, _) = convert(&p, &Options { view: false, ..Default::default() });
+    assert!(scene.view.is_none() && scene.lights.is_empty());
+    let (scene, _, _) = convert(&p, &Options { fit: true, scale: 2.0, ..Default::default() });
+    let b = scene.bounds().unwrap();
+    assert_eq!((b.0, b.1), (DVec3::splat(-1.0), DVec3::splat(1.0)));
+}
