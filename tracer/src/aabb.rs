@@ -15,7 +15,7 @@ pub struct Aabb {
 /// Widening of the exit distance that makes the f32 slab test conservative:
 /// 1 + 2γ₃ with γₙ = nε/(1−nε) (pbrt-v4, section 6.8.2), so a box is never
 /// missed because of rounding and every accelerator finds the same hits.
-const SLAB_WIDEN: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+pub const SLAB_WIDEN: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
 
 impl Aabb {
     /// The empty box: a union with it changes nothing.

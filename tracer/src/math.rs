@@ -32,7 +32,8 @@ pub struct RayQuery {
     pub ray: Ray,
     /// Component-wise 1/d, clamped to ±1e30 so that 0 × 1/d is never NaN.
     pub inv_d: Vec3A,
-    /// Which components of d are negative (near-child ordering).
+    /// Which components of 1/d are negative (which slab plane is near);
+    /// taken from 1/d, not d, so that −0 is handled consistently.
     pub neg: [bool; 3],
     /// Watertight triangle test: the axis d is largest along, and the two
     /// others in an order that keeps the winding (Woop, Benthin and Wald,
@@ -65,7 +66,14 @@ impl RayQuery {
             std::mem::swap(&mut kx, &mut ky);
         }
         let shear = Vec3A::new(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]);
-        RayQuery { ray, inv_d, neg: [d.x < 0.0, d.y < 0.0, d.z < 0.0], k: [kx, ky, kz], shear, t_min }
+        RayQuery {
+            ray,
+            inv_d,
+            neg: [inv_d.x < 0.0, inv_d.y < 0.0, inv_d.z < 0.0],
+            k: [kx, ky, kz],
+            shear,
+            t_min,
+        }
     }
 }
 

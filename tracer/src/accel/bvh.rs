@@ -7,6 +7,7 @@
 //! primitives in [`Bvh::prims`] and `count` their number (interior nodes
 //! have count 0).
 
+use super::wide::{collapse, Entry, Node4, Ray4, STACK};
 use super::{test_prim, test_shadow, AccelInfo, Intersector};
 use crate::aabb::Aabb;
 use crate::geometry::{Geometry, Hit};
@@ -21,9 +22,11 @@ use std::time::Instant;
 #[repr(C)]
 pub struct BvhNode {
     min: [f32; 3],
-    link: u32,
+    /// Second child (interior) or first primitive in `Bvh::prims` (leaf).
+    pub(crate) link: u32,
     max: [f32; 3],
-    count: u32,
+    /// Primitives in a leaf; 0 for interior nodes.
+    pub(crate) count: u32,
 }
 
 const _: () = assert!(std::mem::size_of::<BvhNode>() == 32);
@@ -38,17 +41,26 @@ const MAX_LEAF: usize = 8;
 const TRAVERSAL_COST: f32 = 1.0;
 
 impl BvhNode {
+    /// The node's box.
     #[inline(always)]
-    fn bounds(&self) -> Aabb {
+    pub fn bounds(&self) -> Aabb {
         Aabb { min: Vec3A::from_array(self.min), max: Vec3A::from_array(self.max) }
+    }
+
+    /// Whether the node is a leaf.
+    #[inline(always)]
+    pub fn is_leaf(&self) -> bool {
+        self.count > 0
     }
 }
 
-/// The hierarchy.
+/// The hierarchy: built binary, traversed 4-wide.
 #[derive(Debug, Clone, Default)]
 pub struct Bvh {
-    /// Nodes, depth first; node 0 is the root.
+    /// The binary tree as built, depth first; node 0 is the root.
     pub nodes: Vec<BvhNode>,
+    /// The same tree collapsed to 4-wide nodes, which traversal uses.
+    pub wide: Vec<Node4>,
     /// Primitive ids in leaf order.
     pub prims: Vec<u32>,
     build_seconds: f64,
@@ -93,16 +105,22 @@ impl Bvh {
         if !prims.is_empty() {
             build_nodes(&mut prims, &mut nodes);
         }
-        Bvh { nodes, prims: prims.iter().map(|p| p.id).collect(), build_seconds: t0.elapsed().as_secs_f64() }
+        let wide = collapse(&nodes);
+        Bvh {
+            nodes,
+            wide,
+            prims: prims.iter().map(|p| p.id).collect(),
+            build_seconds: t0.elapsed().as_secs_f64(),
+        }
     }
 
     /// Size and build time.
     pub fn info(&self) -> AccelInfo {
         AccelInfo {
             build_seconds: self.build_seconds,
-            bytes: self.nodes.len() * 32 + self.prims.len() * 4,
-            nodes: self.nodes.len(),
-            summary: "BVH (binned SAH)",
+            bytes: self.wide.len() * std::mem::size_of::<Node4>() + self.prims.len() * 4,
+            nodes: self.wide.len(),
+            summary: "BVH (binned SAH, 4-wide)",
         }
     }
 
@@ -240,9 +258,12 @@ fn partition<T>(v: &mut [T], pred: impl Fn(&T) -> bool) -> usize {
 }
 
 impl Intersector for Bvh {
-    type Scratch = ();
+    /// The traversal stack, allocated once per thread.
+    type Scratch = Vec<Entry>;
 
-    fn scratch(&self, _: &Geometry) {}
+    fn scratch(&self, _: &Geometry) -> Vec<Entry> {
+        vec![Entry::default(); STACK]
+    }
 
     #[inline]
     fn intersect(
@@ -250,92 +271,93 @@ impl Intersector for Bvh {
         geom: &Geometry,
         q: &RayQuery,
         t_max: f32,
-        _: &mut (),
+        stack: &mut Vec<Entry>,
         c: &mut Counters,
     ) -> Option<Hit> {
-        let mut best: Option<Hit> = None;
-        self.nodes.first()?.bounds().hit(q, q.t_min, t_max)?;
-        let mut stack = [0u32; MAX_DEPTH];
-        let mut sp = 0;
-        let mut index = 0usize;
-        loop {
-            let node = &self.nodes[index];
-            c.visits += 1;
-            if node.count > 0 {
-                let start = node.link as usize;
-                for &id in &self.prims[start..start + node.count as usize] {
-                    let limit = best.map_or(t_max, |h| h.t);
-                    test_prim(geom, id, q, &mut best, limit, c);
-                }
-            } else {
-                let limit = best.map_or(t_max, |h| h.t);
-                let (l, r) = (index + 1, node.link as usize);
-                let hl = self.nodes[l].bounds().hit(q, q.t_min, limit);
-                let hr = self.nodes[r].bounds().hit(q, q.t_min, limit);
-                match (hl, hr) {
-                    (Some(a), Some(b)) => {
-                        let (near, far) = if a.0 <= b.0 { (l, r) } else { (r, l) };
-                        stack[sp] = far as u32;
-                        sp += 1;
-                        index = near;
-                        continue;
-                    }
-                    (Some(_), None) => {
-                        index = l;
-                        continue;
-                    }
-                    (None, Some(_)) => {
-                        index = r;
-                        continue;
-                    }
-                    (None, None) => {}
-                }
-            }
-            if sp == 0 {
-                return best;
-            }
-            sp -= 1;
-            index = stack[sp] as usize;
+        if self.wide.is_empty() {
+            return None;
         }
+        let r = Ray4::new(q);
+        let mut best: Option<Hit> = None;
+        let stack = &mut stack[..STACK];
+        stack[0] = Entry { child: 0, count: 0, t: q.t_min };
+        let mut sp = 1;
+        while sp > 0 {
+            sp -= 1;
+            let e = stack[sp];
+            let limit = best.map_or(t_max, |h| h.t);
+            if e.t > limit {
+                continue; // a nearer hit was found since this was pushed
+            }
+            if e.count > 0 {
+                for &id in &self.prims[e.child as usize..(e.child + e.count) as usize] {
+                    test_prim(geom, id, q, &mut best, t_max, c);
+                }
+                continue;
+            }
+            c.visits += 1;
+            let node = &self.wide[e.child as usize];
+            let (t, mut mask) = node.hit(&r, limit);
+            // Push the hit children farthest first, so the nearest pops next.
+            let mut hits = [(0.0f32, 0usize); 4];
+            let mut n = 0;
+            while mask != 0 {
+                let slot = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                let ts = t[slot];
+                let mut k = n;
+                while k > 0 && hits[k - 1].0 < ts {
+                    hits[k] = hits[k - 1];
+                    k -= 1;
+                }
+                hits[k] = (ts, slot);
+                n += 1;
+            }
+            for &(ts, slot) in &hits[..n] {
+                stack[sp] = node.entry(slot, ts);
+                sp += 1;
+            }
+        }
+        best
     }
 
     #[inline]
-    fn occluded(&self, geom: &Geometry, q: &RayQuery, t_max: f32, _: &mut (), c: &mut Counters) -> bool {
-        let Some(root) = self.nodes.first() else { return false };
-        if root.bounds().hit(q, q.t_min, t_max).is_none() {
+    fn occluded(
+        &self,
+        geom: &Geometry,
+        q: &RayQuery,
+        t_max: f32,
+        stack: &mut Vec<Entry>,
+        c: &mut Counters,
+    ) -> bool {
+        if self.wide.is_empty() {
             return false;
         }
-        let mut stack = [0u32; MAX_DEPTH];
-        let mut sp = 0;
-        let mut index = 0usize;
-        loop {
-            let node = &self.nodes[index];
-            c.visits += 1;
-            if node.count > 0 {
-                let start = node.link as usize;
-                for &id in &self.prims[start..start + node.count as usize] {
+        let r = Ray4::new(q);
+        let stack = &mut stack[..STACK];
+        stack[0] = Entry { child: 0, count: 0, t: q.t_min };
+        let mut sp = 1;
+        while sp > 0 {
+            sp -= 1;
+            let e = stack[sp];
+            if e.count > 0 {
+                for &id in &self.prims[e.child as usize..(e.child + e.count) as usize] {
                     if test_shadow(geom, id, q, t_max, c) {
                         return true;
                     }
                 }
-            } else {
-                let (l, r) = (index + 1, node.link as usize);
-                let hl = self.nodes[l].bounds().hit(q, q.t_min, t_max).is_some();
-                let hr = self.nodes[r].bounds().hit(q, q.t_min, t_max).is_some();
-                if hl || hr {
-                    if hl && hr {
-                        stack[sp] = r as u32;
-                        sp += 1;
-                    }
-                    index = if hl { l } else { r };
-                    continue;
-                }
+                continue;
             }
-            if sp == 0 {
-                return false;
+            c.visits += 1;
+            let node = &self.wide[e.child as usize];
+            let (t, mut mask) = node.hit(&r, t_max);
+            while mask != 0 {
+                let slot = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                stack[sp] = node.entry(slot, t[slot]);
+                sp += 1;
             }
-            sp -= 1;
-            index = stack[sp] as usize;
         }
+        false
     }
 }

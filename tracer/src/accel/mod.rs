@@ -7,10 +7,12 @@
 mod brute;
 mod bvh;
 mod grid;
+mod wide;
 
 pub use brute::BruteForce;
 pub use bvh::{Bvh, BvhNode};
 pub use grid::{Grid, Mailbox};
+pub use wide::Node4;
 
 use crate::geometry::{Geometry, Hit};
 use crate::math::RayQuery;

@@ -1,0 +1,167 @@
+//! The BVH's traversal form: the binary SAH tree collapsed into 4-wide
+//! nodes whose four child boxes are tested at once with SIMD (glam's `Vec4`,
+//! SSE on x86-64). Each node is 128 bytes: the boxes in struct-of-arrays
+//! form, then the children.
+//!
+//! A child with `count == 0` is an interior node (its index in `nodes`);
+//! otherwise it is a leaf holding `prims[child..child + count]`. Unused slots
+//! have empty boxes (min = +inf, max = −inf), which the slab test never hits
+//! because near and far planes are chosen by the sign of 1/d.
+
+use super::bvh::BvhNode;
+use crate::aabb::{Aabb, SLAB_WIDEN};
+use crate::math::RayQuery;
+use glam::{Vec3A, Vec4};
+
+/// A 4-wide node.
+#[derive(Debug, Clone, Copy)]
+#[repr(C, align(64))]
+pub struct Node4 {
+    min: [Vec4; 3],
+    max: [Vec4; 3],
+    child: [u32; 4],
+    count: [u32; 4],
+}
+
+const _: () = assert!(std::mem::size_of::<Node4>() == 128);
+
+/// Entries of the traversal stack: a node or a leaf, and its entry distance.
+#[derive(Clone, Copy, Default)]
+pub struct Entry {
+    /// Node index, or first primitive of a leaf.
+    pub child: u32,
+    /// 0 for a node, else the leaf's primitive count.
+    pub count: u32,
+    /// Where the ray enters its box.
+    pub t: f32,
+}
+
+/// Deep enough for any tree the builder makes (depth ≤ 64, three siblings
+/// pushed per level); the per-thread stack is allocated once at this size.
+pub const STACK: usize = 256;
+
+/// Collapse a binary tree (depth-first, first child at `i + 1`) into 4-wide
+/// nodes.
+pub fn collapse(bin: &[BvhNode]) -> Vec<Node4> {
+    let mut out = Vec::with_capacity(bin.len() / 2 + 1);
+    if bin.is_empty() {
+        return out;
+    }
+    if bin[0].is_leaf() {
+        out.push(node_from(&[0], bin, &mut Vec::new()));
+        return out;
+    }
+    build(0, bin, &mut out);
+    out
+}
+
+fn children(i: usize, bin: &[BvhNode]) -> [usize; 2] {
+    [i + 1, bin[i].link as usize]
+}
+
+/// Emit the 4-wide node for binary interior node `i`; returns its index.
+fn build(i: usize, bin: &[BvhNode], out: &mut Vec<Node4>) -> u32 {
+    // Open the largest interior child until there are four.
+    let mut kids: Vec<usize> = children(i, bin).to_vec();
+    while kids.len() < 4 {
+        let open = kids
+            .iter()
+            .enumerate()
+            .filter(|(_, &k)| !bin[k].is_leaf())
+            .max_by(|a, b| bin[*a.1].bounds().half_area().total_cmp(&bin[*b.1].bounds().half_area()))
+            .map(|(j, _)| j);
+        let Some(j) = open else { break };
+        let k = kids.remove(j);
+        kids.extend(children(k, bin));
+    }
+    let index = out.len();
+    out.push(node_from(&[], bin, &mut Vec::new()));
+    let mut node = node_from(&kids, bin, &mut Vec::new());
+    for (slot, &k) in kids.iter().enumerate() {
+        if !bin[k].is_leaf() {
+            node.child[slot] = build(k, bin, out);
+        }
+    }
+    out[index] = node;
+    index as u32
+}
+
+fn node_from(kids: &[usize], bin: &[BvhNode], _scratch: &mut Vec<u32>) -> Node4 {
+    let mut min = [[f32::INFINITY; 4]; 3];
+    let mut max = [[f32::NEG_INFINITY; 4]; 3];
+    let mut child = [0u32; 4];
+    let mut count = [0u32; 4];
+    for (slot, &k) in kids.iter().enumerate() {
+        let b = bin[k].bounds();
+        for a in 0..3 {
+            min[a][slot] = b.min[a];
+            max[a][slot] = b.max[a];
+        }
+        if bin[k].is_leaf() {
+            child[slot] = bin[k].link;
+            count[slot] = bin[k].count;
+        }
+    }
+    Node4 { min: min.map(Vec4::from_array), max: max.map(Vec4::from_array), child, count }
+}
+
+impl Node4 {
+    /// Bounds of all children.
+    pub fn bounds(&self) -> Aabb {
+        let mut b = Aabb::EMPTY;
+        for s in (0..4).filter(|&s| self.min[0][s] <= self.max[0][s]) {
+            b = b.union(Aabb::new(
+                Vec3A::new(self.min[0][s], self.min[1][s], self.min[2][s]),
+                Vec3A::new(self.max[0][s], self.max[1][s], self.max[2][s]),
+            ));
+        }
+        b
+    }
+
+    /// Entry distances of the ray into the four child boxes within
+    /// `(t_min, t_max)`, and the mask of boxes hit. The same conservative
+    /// slab test as [`Aabb::hit`], four boxes at a time.
+    #[inline(always)]
+    pub fn hit(&self, r: &Ray4, t_max: f32) -> (Vec4, u32) {
+        let (nx, fx) = if r.neg[0] { (self.max[0], self.min[0]) } else { (self.min[0], self.max[0]) };
+        let (ny, fy) = if r.neg[1] { (self.max[1], self.min[1]) } else { (self.min[1], self.max[1]) };
+        let (nz, fz) = if r.neg[2] { (self.max[2], self.min[2]) } else { (self.min[2], self.max[2]) };
+        let t_near = ((nx - r.o[0]) * r.inv[0])
+            .max((ny - r.o[1]) * r.inv[1])
+            .max((nz - r.o[2]) * r.inv[2])
+            .max(r.t_min);
+        let t_far = (((fx - r.o[0]) * r.inv[0]).min((fy - r.o[1]) * r.inv[1]).min((fz - r.o[2]) * r.inv[2])
+            * SLAB_WIDEN)
+            .min(Vec4::splat(t_max));
+        let mask = t_near.cmple(t_far).bitmask();
+        (t_near, mask)
+    }
+
+    /// Child `slot` as a stack entry.
+    #[inline(always)]
+    pub fn entry(&self, slot: usize, t: f32) -> Entry {
+        Entry { child: self.child[slot], count: self.count[slot], t }
+    }
+}
+
+/// A ray splatted for 4-wide box tests.
+pub struct Ray4 {
+    o: [Vec4; 3],
+    inv: [Vec4; 3],
+    neg: [bool; 3],
+    t_min: Vec4,
+}
+
+impl Ray4 {
+    /// From a ray query.
+    #[inline(always)]
+    pub fn new(q: &RayQuery) -> Ray4 {
+        let (o, inv) = (q.ray.o, q.inv_d);
+        Ray4 {
+            o: [Vec4::splat(o.x), Vec4::splat(o.y), Vec4::splat(o.z)],
+            inv: [Vec4::splat(inv.x), Vec4::splat(inv.y), Vec4::splat(inv.z)],
+            neg: q.neg,
+            t_min: Vec4::splat(q.t_min),
+        }
+    }
+}
