@@ -36,7 +36,7 @@ const MAX_DEPTH: usize = 64;
 /// Bins per axis for the SAH.
 const BINS: usize = 16;
 /// Leaves never hold more than this unless the primitives cannot be split.
-const MAX_LEAF: usize = 8;
+const MAX_LEAF: usize = 4;
 /// Cost of a traversal step relative to a primitive test.
 const TRAVERSAL_COST: f32 = 1.0;
 

@@ -1,0 +1,85 @@
+//! `raybench`: primary-ray throughput of an accelerator on one thread, the
+//! figure compared with Embree's `rtcIntersect1` (pixel-centre eye rays,
+//! nearest hit only, no shading).
+
+use anyhow::{Context, Result};
+use clap::Parser;
+use nffkit_formats::nff::ParseOptions;
+use nffkit_tools::render_cli::AccelArg;
+use nffkit_tools::{cli_util, input};
+use nffkit_tracer::accel::{AccelKind, AccelOptions, Intersector};
+use nffkit_tracer::math::RayQuery;
+use nffkit_tracer::prepare::{prepare, PrepareOptions, RenderScene};
+use nffkit_tracer::stats::Counters;
+use nffkit_tracer::with_accel;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+/// Shoot one pixel-centre eye ray per pixel on one thread and report the
+/// nearest-hit rate (best of --runs), without shading.
+#[derive(Parser, Debug)]
+#[command(version, about)]
+struct Args {
+    /// Scene file.
+    scene: PathBuf,
+    /// Image size.
+    #[arg(long, default_value_t = 512)]
+    size: u32,
+    /// Accelerator.
+    #[arg(long, value_enum, default_value_t = AccelArg::Bvh)]
+    accel: AccelArg,
+    /// Repetitions; the best is reported.
+    #[arg(long, default_value_t = 5)]
+    runs: u32,
+}
+
+fn shoot<I: Intersector>(scene: &RenderScene, accel: &I) -> (u64, u64) {
+    let (w, h) = scene.camera.resolution();
+    let mut scratch = accel.scratch(&scene.geometry);
+    let mut c = Counters::default();
+    let mut hits = 0;
+    for y in 0..h {
+        for x in 0..w {
+            let (ray, t_min) = scene.camera.ray(x as f32 + 0.5, y as f32 + 0.5, glam::Vec2::ZERO);
+            let q = RayQuery::new(ray, t_min);
+            hits +=
+                accel.intersect(&scene.geometry, &q, f32::INFINITY, &mut scratch, &mut c).is_some() as u64;
+        }
+    }
+    (w as u64 * h as u64, hits)
+}
+
+fn run(a: &Args) -> Result<()> {
+    let scene = input::load_scene(&a.scene, &ParseOptions::default(), true)?.scene;
+    let kind = match a.accel {
+        AccelArg::None => AccelKind::None,
+        AccelArg::Grid => AccelKind::Grid,
+        AccelArg::Bvh => AccelKind::Bvh,
+    };
+    let opts = PrepareOptions {
+        width: Some(a.size),
+        height: Some(a.size),
+        accel: AccelOptions { kind, ..Default::default() },
+        ..Default::default()
+    };
+    let prepared = prepare(&scene, &opts).context("preparing the scene")?;
+    let mut best = f64::INFINITY;
+    let (mut rays, mut hits) = (0, 0);
+    for _ in 0..a.runs.max(1) {
+        let t0 = Instant::now();
+        (rays, hits) = with_accel!(&prepared.accel, acc => shoot(&prepared, acc));
+        best = best.min(t0.elapsed().as_secs_f64());
+    }
+    println!(
+        "{}: {rays} eye rays ({hits} hit) in {:.4} s on one thread: {:.2} Mrays/s",
+        input::display_name(&a.scene),
+        best,
+        rays as f64 / best / 1e6
+    );
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    cli_util::exit(run(&Args::parse()), "raybench")
+}
