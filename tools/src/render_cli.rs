@@ -61,6 +61,12 @@ pub struct Args {
     /// statistics, so counts compare with those the SPD publishes.
     #[arg(long)]
     pub spd_stats: bool,
+    /// Adaptive depth control: skip reflected and refracted rays whose
+    /// weight (product of Ks and T along the path) is below this; 0 (the
+    /// default) traces every ray, as classic NFF renderers do. POV-Ray's
+    /// default is 1/255 = 0.0039.
+    #[arg(long, default_value_t = 0.0)]
+    pub min_weight: f32,
     /// Seed of every random pattern.
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
@@ -244,6 +250,9 @@ pub fn settings(args: &Args) -> Result<RenderSettings> {
     if !(args.light_size >= 0.0 && args.light_size.is_finite()) {
         bail!("--light-size must be a non-negative number (got {})", args.light_size);
     }
+    if !(0.0..1.0).contains(&args.min_weight) {
+        bail!("--min-weight must be in [0, 1) (got {})", args.min_weight);
+    }
     if !(args.aperture >= 0.0 && args.aperture.is_finite()) {
         bail!("--aperture must be a non-negative number (got {})", args.aperture);
     }
@@ -268,6 +277,7 @@ pub fn settings(args: &Args) -> Result<RenderSettings> {
         },
         max_depth: if args.spd_stats { 5 } else { args.depth },
         light_size: args.light_size,
+        min_weight: if args.spd_stats { 0.0 } else { args.min_weight },
         light_shape: match args.light_shape {
             LightShapeArg::Square => LightShape::Square,
             LightShapeArg::Disk => LightShape::Disk,

@@ -208,3 +208,24 @@ fn cost_image_has_a_colour_bar_and_accelerators_agree() {
     assert_eq!(images[0], images[1]);
     assert_eq!(images[0], images[2]);
 }
+
+#[test]
+fn adaptive_depth_control_prunes_rays_and_barely_changes_the_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b) = (dir.path().join("a.png"), dir.path().join("b.png"));
+    let base = [&spd("mount_s5.nff"), "--width", "64", "--height", "64", "--stats"];
+    let full = run(RENDER, &[&base[..], &["-o", a.to_str().unwrap()]].concat(), None);
+    let cut =
+        run(RENDER, &[&base[..], &["-o", b.to_str().unwrap(), "--min-weight", "0.0039"]].concat(), None);
+    let rays = |o: &Output| -> u64 {
+        let text = String::from_utf8_lossy(&o.stdout).into_owned();
+        let line = text.lines().find(|l| l.starts_with("rays")).unwrap().to_string();
+        line.split_whitespace().nth(1).unwrap().parse().unwrap()
+    };
+    assert!(rays(&cut) < rays(&full), "{} vs {}", rays(&cut), rays(&full));
+    let (ia, ib) = (png(&a), png(&b));
+    let worst =
+        ia.pixels().zip(ib.pixels()).flat_map(|(p, q)| (0..3).map(move |i| p[i].abs_diff(q[i]))).max();
+    assert!(worst.unwrap() <= 2, "{worst:?}");
+    assert!(!run(RENDER, &["--min-weight", "2"], None).status.success());
+}

@@ -5,7 +5,6 @@
 //! no shadow ray when N·L ≤ 0; the background for rays that escape.
 
 use crate::accel::Intersector;
-use crate::geometry::Hit;
 use crate::math::{basis, offset_ray_origin, reflect, refract, Ray, RayQuery};
 use crate::prepare::RenderScene;
 use crate::sampling::{concentric_disk, Sampler};
@@ -31,6 +30,11 @@ pub struct ShadeSettings {
     pub light_size: f32,
     /// Shape of the light area.
     pub light_shape: LightShape,
+    /// Adaptive depth control: secondary rays whose weight (the product of
+    /// the Ks and T factors along their path) falls below this are not
+    /// traced. 0 traces every ray up to `max_depth` (the classic rule);
+    /// POV-Ray's default `adc_bailout` is 1/255.
+    pub min_weight: f32,
 }
 
 /// Which sample of which pixel a ray belongs to, for drawing light samples.
@@ -68,22 +72,16 @@ pub struct Whitted<'a, I: Intersector> {
 /// one dimension per light per bounce.
 pub const FIRST_LIGHT_DIMENSION: u32 = 2;
 
-/// What a nearest-hit query found, or the background.
-pub enum Traced {
-    /// The ray hit something.
-    Hit(Hit),
-    /// The ray escaped.
-    Miss,
-}
-
 impl<I: Intersector> Whitted<'_, I> {
     /// Radiance along `ray`, which starts at distance `t_min` (the hither
-    /// plane for eye rays) and has path depth `depth` (1 for eye rays).
+    /// plane for eye rays), has path depth `depth` (1 for eye rays) and
+    /// carries `weight`, the product of the Ks and T factors that led to it.
     pub fn li(
         &self,
         ray: Ray,
         t_min: f32,
         depth: u32,
+        weight: f32,
         id: SampleId,
         th: &mut ThreadState<I::Scratch>,
     ) -> Vec3A {
@@ -128,23 +126,29 @@ impl<I: Intersector> Whitted<'_, I> {
         if depth >= self.settings.max_depth {
             return color;
         }
-        if m.ks > 0.0 {
+        let min = self.settings.min_weight;
+        if m.ks > 0.0 && weight * m.ks >= min {
             th.counters.reflected += 1;
             let r = self.mirror(d, ns, ng);
             let o = offset_ray_origin(s.p, ng);
-            color += m.ks * self.li(Ray { o, d: r }, 0.0, depth + 1, id, th);
+            color += m.ks * self.li(Ray { o, d: r }, 0.0, depth + 1, weight * m.ks, id, th);
         }
-        if m.t > 0.0 {
+        if m.t > 0.0 && weight * m.t >= min {
             th.counters.refracted += 1;
             let eta = if entering { 1.0 / m.ior } else { m.ior };
             let traced = match refract(d, ns, eta) {
-                Some(t) if t.dot(ng) < 0.0 => {
-                    self.li(Ray { o: offset_ray_origin(s.p, -ng), d: t }, 0.0, depth + 1, id, th)
-                }
+                Some(t) if t.dot(ng) < 0.0 => self.li(
+                    Ray { o: offset_ray_origin(s.p, -ng), d: t },
+                    0.0,
+                    depth + 1,
+                    weight * m.t,
+                    id,
+                    th,
+                ),
                 _ => {
                     // Total internal reflection: the transmitted share reflects.
                     let r = self.mirror(d, ns, ng);
-                    self.li(Ray { o: offset_ray_origin(s.p, ng), d: r }, 0.0, depth + 1, id, th)
+                    self.li(Ray { o: offset_ray_origin(s.p, ng), d: r }, 0.0, depth + 1, weight * m.t, id, th)
                 }
             };
             color += m.t * traced;

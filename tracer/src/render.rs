@@ -33,6 +33,8 @@ pub struct RenderSettings {
     pub light_size: f32,
     /// Area-light shape.
     pub light_shape: LightShape,
+    /// Adaptive depth control threshold (0: off).
+    pub min_weight: f32,
     /// SPD test procedure: one ray through each pixel corner, averaged.
     pub spd_corners: bool,
     /// Record traversal work per pixel.
@@ -51,6 +53,7 @@ impl Default for RenderSettings {
             max_depth: 6,
             light_size: 0.0,
             light_shape: LightShape::Square,
+            min_weight: 0.0,
             spd_corners: false,
             cost: false,
             row_stride: 1,
@@ -100,6 +103,7 @@ fn render_with<I: Intersector>(
             max_depth: settings.max_depth,
             light_size: settings.light_size,
             light_shape: settings.light_shape,
+            min_weight: settings.min_weight,
         },
     };
     let filter = Filter::new(settings.filter);
@@ -109,7 +113,7 @@ fn render_with<I: Intersector>(
         let (corners, cost, counters) = run_tiles(&grid, accel, scene, progress, |x, y, th| {
             let (ray, t_min) = scene.camera.ray(x as f32, y as f32, Vec2::ZERO);
             th.counters.eye += 1;
-            shader.li(ray, t_min, 1, SampleId { px: x, py: y, index: 0 }, th)
+            shader.li(ray, t_min, 1, 1.0, SampleId { px: x, py: y, index: 0 }, th)
         });
         let mut film = Film::new(w, h);
         for y in 0..h {
@@ -154,7 +158,7 @@ fn pixel<I: Intersector>(
     if sampler.spp == 1 && settings.centre_single_sample && camera.aperture == 0.0 {
         let (ray, t_min) = camera.ray(px as f32 + 0.5, py as f32 + 0.5, Vec2::ZERO);
         th.counters.eye += 1;
-        return shader.li(ray, t_min, 1, SampleId { px, py, index: 0 }, th);
+        return shader.li(ray, t_min, 1, 1.0, SampleId { px, py, index: 0 }, th);
     }
     let (mut sum, mut weights) = (Vec3A::ZERO, 0.0);
     for index in 0..sampler.spp {
@@ -162,7 +166,7 @@ fn pixel<I: Intersector>(
         let lens = concentric_disk(sampler.sample(px, py, index, 1));
         let (ray, t_min) = camera.ray(px as f32 + 0.5 + offset.x, py as f32 + 0.5 + offset.y, lens);
         th.counters.eye += 1;
-        sum += weight * shader.li(ray, t_min, 1, SampleId { px, py, index }, th);
+        sum += weight * shader.li(ray, t_min, 1, 1.0, SampleId { px, py, index }, th);
         weights += weight;
     }
     if weights > 0.5 {
