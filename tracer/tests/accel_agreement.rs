@@ -156,3 +156,16 @@ fn g_bounds_min(g: &Geometry) -> Vec3A {
 fn g_bounds_max(g: &Geometry) -> Vec3A {
     (0..g.len() as u32).map(|i| g.bounds(i).max).fold(Vec3A::splat(f32::NEG_INFINITY), |a, b| a.max(b))
 }
+
+#[test]
+fn large_trees_built_in_parallel_agree_with_brute_force() {
+    // Above the parallel-build threshold (65,536 primitives).
+    let g = random_scene(5, 150_000);
+    let bvh = Bvh::build(&g);
+    for i in 0..150 {
+        let a = i as f32 * 0.77;
+        let q = query([a.sin() * 9.0, a.cos() * 9.0, (a * 0.3).sin() * 9.0], [-a.sin(), -a.cos() + 0.1, 0.2])
+            .unwrap();
+        check(&g, &BruteForce, &bvh, &q);
+    }
+}

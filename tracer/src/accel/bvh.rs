@@ -101,10 +101,7 @@ impl Bvh {
                 BuildPrim { bounds, centroid: bounds.center(), id }
             })
             .collect();
-        let mut nodes = Vec::with_capacity(2 * prims.len() / 2 + 1);
-        if !prims.is_empty() {
-            build_nodes(&mut prims, &mut nodes);
-        }
+        let nodes = if prims.is_empty() { Vec::new() } else { build_subtree(&mut prims, 0, 0) };
         let wide = collapse(&nodes);
         Bvh {
             nodes,
@@ -130,10 +127,47 @@ impl Bvh {
     }
 }
 
+/// Subtrees larger than this are split and their halves built in parallel.
+const PARALLEL_BUILD: usize = 1 << 16;
+
+/// Build the subtree over `prims` (which start at `offset` in the whole
+/// array) at `depth`. Links of interior nodes are relative to the returned
+/// vector; leaf links are absolute. Large subtrees split once here and build
+/// their halves on both cores; the tree is the same as a sequential build.
+fn build_subtree(prims: &mut [BuildPrim], offset: usize, depth: usize) -> Vec<BvhNode> {
+    if prims.len() <= PARALLEL_BUILD || depth + 1 >= MAX_DEPTH {
+        let mut nodes = Vec::with_capacity(prims.len());
+        build_nodes(prims, offset, depth, &mut nodes);
+        return nodes;
+    }
+    let bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
+    let node = |count| BvhNode { min: bounds.min.into(), link: offset as u32, max: bounds.max.into(), count };
+    let Some(mid) = sah_split(prims, &bounds) else {
+        return vec![node(prims.len() as u32)];
+    };
+    let (lp, rp) = prims.split_at_mut(mid);
+    let (left, right) =
+        rayon::join(|| build_subtree(lp, offset, depth + 1), || build_subtree(rp, offset + mid, depth + 1));
+    let mut nodes = Vec::with_capacity(1 + left.len() + right.len());
+    nodes.push(BvhNode { link: (1 + left.len()) as u32, ..node(0) });
+    for part in [left, right] {
+        // The part's interior links were relative to its own first node.
+        let base = nodes.len() as u32;
+        nodes.extend(part.into_iter().map(|mut n| {
+            if !n.is_leaf() {
+                n.link += base;
+            }
+            n
+        }));
+    }
+    nodes
+}
+
 /// Iterative depth-first build: the left child is always built right after
-/// its parent, so it sits at `parent + 1`.
-fn build_nodes(prims: &mut [BuildPrim], nodes: &mut Vec<BvhNode>) {
-    let mut stack = vec![Task { start: 0, end: prims.len(), depth: 0, parent: None }];
+/// its parent, so it sits at `parent + 1`. Interior links are indices into
+/// `nodes`; leaf links are `offset +` positions in `prims`.
+fn build_nodes(prims: &mut [BuildPrim], offset: usize, depth: usize, nodes: &mut Vec<BvhNode>) {
+    let mut stack = vec![Task { start: 0, end: prims.len(), depth, parent: None }];
     while let Some(task) = stack.pop() {
         let index = nodes.len();
         if let Some(p) = task.parent {
@@ -141,8 +175,12 @@ fn build_nodes(prims: &mut [BuildPrim], nodes: &mut Vec<BvhNode>) {
         }
         let range = &mut prims[task.start..task.end];
         let bounds = range.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
-        let mut node =
-            BvhNode { min: bounds.min.into(), link: task.start as u32, max: bounds.max.into(), count: 0 };
+        let mut node = BvhNode {
+            min: bounds.min.into(),
+            link: (offset + task.start) as u32,
+            max: bounds.max.into(),
+            count: 0,
+        };
         let split = if task.depth + 1 >= MAX_DEPTH { None } else { sah_split(range, &bounds) };
         match split {
             None => {
