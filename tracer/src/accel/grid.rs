@@ -272,22 +272,13 @@ impl Intersector for Grid {
         c: &mut Counters,
     ) -> Option<Hit> {
         let mut best: Option<Hit> = None;
-        let use_mailbox = self.mailbox;
-        if use_mailbox {
-            mb.next_ray();
-        }
-        self.walk(q, t_max, |cell, t_exit| {
-            c.visits += 1;
-            for &id in self.cell(cell) {
-                if use_mailbox && mb.seen(id) {
-                    c.mailbox_hits += 1;
-                    continue;
-                }
+        self.walk_candidates(q, t_max, mb, c, |id, t_exit, c| {
+            if let Some(id) = id {
                 test_prim(geom, id, q, &mut best, t_max, c);
             }
-            // Stop once the nearest hit lies within this cell: no later cell
-            // can hold a nearer one.
-            !best.is_some_and(|h| h.t <= t_exit)
+            // At the end of a cell: stop once the nearest hit lies within
+            // it, as no later cell can hold a nearer one.
+            id.is_some() || !best.is_some_and(|h| h.t <= t_exit)
         });
         best
     }
@@ -301,25 +292,43 @@ impl Intersector for Grid {
         c: &mut Counters,
     ) -> bool {
         let mut hit = false;
+        self.walk_candidates(q, t_max, mb, c, |id, _, c| {
+            hit = id.is_some_and(|id| test_shadow(geom, id, q, t_max, c));
+            !hit
+        });
+        hit
+    }
+}
+
+impl Grid {
+    /// Walk the cells along the ray and call `visit(Some(id), t_exit, c)` for
+    /// each primitive the mailbox has not seen this ray, then
+    /// `visit(None, t_exit, c)` at the end of each cell; `visit` returns
+    /// false to stop.
+    #[inline]
+    fn walk_candidates(
+        &self,
+        q: &RayQuery,
+        t_max: f32,
+        mb: &mut Mailbox,
+        c: &mut Counters,
+        mut visit: impl FnMut(Option<u32>, f32, &mut Counters) -> bool,
+    ) {
         let use_mailbox = self.mailbox;
         if use_mailbox {
             mb.next_ray();
         }
-        self.walk(q, t_max, |cell, _| {
+        self.walk(q, t_max, |cell, t_exit| {
             c.visits += 1;
             for &id in self.cell(cell) {
                 if use_mailbox && mb.seen(id) {
                     c.mailbox_hits += 1;
-                    continue;
-                }
-                if test_shadow(geom, id, q, t_max, c) {
-                    hit = true;
+                } else if !visit(Some(id), t_exit, c) {
                     return false;
                 }
             }
-            true
+            visit(None, t_exit, c)
         });
-        hit
     }
 }
 
