@@ -320,3 +320,18 @@ fn no_view_fit_and_center() {
     let b = scene.bounds().unwrap();
     assert_eq!((b.0, b.1), (DVec3::splat(-1.0), DVec3::splat(1.0)));
 }
+
+#[test]
+fn obj_parse_errors_name_the_line_and_nameless_usemtl_is_tolerated() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write_file(dir.path(), "bad.obj", "v 0 0 0\nv 1 0 0\nv 3.1+e2 0 1\nf 1 2 3\n");
+    let e = nffkit_formats::mesh::load(&p).unwrap_err().to_string();
+    assert!(e.contains("line 3"), "{e}");
+    let p = write_file(dir.path(), "blender.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl \nf 1 2 3\n");
+    let (scene, _, warnings) = convert(&p, &Options::default());
+    assert_eq!(scene.primitives.len(), 1);
+    assert!(warnings.iter().any(|w| w.contains("line 4")), "{warnings:?}");
+    let p = dir.path().join("utf16.obj");
+    std::fs::write(&p, [0xFF, 0xFE, b'v', 0]).unwrap();
+    assert!(nffkit_formats::mesh::load(&p).unwrap_err().to_string().contains("UTF-16"));
+}

@@ -39,8 +39,7 @@ pub fn load(path: &Path) -> Result<Mesh, MeshError> {
             ));
         }
     }
-    let gltf =
-        Gltf::from_slice(&bytes).map_err(|e| MeshError::invalid(path, format!("invalid glTF: {e}")))?;
+    let gltf = Gltf::from_slice(&bytes).map_err(|e| MeshError::invalid(path, e.to_string()))?;
     let base = path.parent();
     let buffers = ::gltf::import_buffers(&gltf.document, base, gltf.blob.clone())
         .map_err(|e| MeshError::invalid(path, format!("cannot load its buffers: {e}")))?;

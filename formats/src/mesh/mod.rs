@@ -96,7 +96,9 @@ pub fn load(path: &Path) -> Result<Mesh, MeshError> {
         return Err(MeshError::invalid(path, format!("position {i} is not a finite number")));
     }
     if mesh.faces.is_empty() {
-        return Err(MeshError::invalid(path, "the mesh has no faces"));
+        let why =
+            if mesh.warnings.is_empty() { String::new() } else { format!(" ({})", mesh.warnings.join("; ")) };
+        return Err(MeshError::invalid(path, format!("the mesh has no faces{why}")));
     }
     Ok(mesh)
 }

@@ -35,13 +35,59 @@ fn strip_face_attributes(text: &str) -> String {
     out
 }
 
+/// Drop lines tobj refuses although exporters write them (`usemtl` with no
+/// name, from Blender), with a warning each.
+fn sanitize(text: &str, warnings: &mut Vec<String>) -> String {
+    let mut out = String::with_capacity(text.len());
+    for (i, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        if words.next() == Some("usemtl") && words.next().is_none() {
+            warnings.push(format!("line {}: `usemtl` without a name ignored", i + 1));
+            continue;
+        }
+        out.push_str(line);
+        out.push('\n');
+    }
+    out
+}
+
+/// For tobj's errors, which carry no position: the first line that cannot be
+/// read as the failing kind of statement.
+fn locate(text: &str, e: &tobj::LoadError) -> Option<String> {
+    let keyword = match e {
+        tobj::LoadError::PositionParseError => "v",
+        tobj::LoadError::NormalParseError => "vn",
+        tobj::LoadError::TexcoordParseError => "vt",
+        tobj::LoadError::FaceParseError => "f",
+        _ => return None,
+    };
+    text.lines().enumerate().find_map(|(i, line)| {
+        let mut words = line.split_whitespace();
+        if words.next() != Some(keyword) {
+            return None;
+        }
+        let ok = if keyword == "f" {
+            words.all(|w| w.split('/').all(|p| p.is_empty() || p.parse::<i64>().is_ok()))
+        } else {
+            words.all(|w| w.parse::<f64>().is_ok())
+        };
+        (!ok).then(|| format!("line {}: `{}`", i + 1, line.trim()))
+    })
+}
+
 /// Import an OBJ file.
 pub fn load(path: &Path) -> Result<Mesh, MeshError> {
-    let text =
+    let bytes =
         std::fs::read(path).map_err(|source| MeshError::Io { path: path.display().to_string(), source })?;
-    let text = String::from_utf8_lossy(&text).into_owned();
-    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    if bytes.starts_with(&[0xFE, 0xFF]) || bytes.starts_with(&[0xFF, 0xFE]) {
+        return Err(MeshError::invalid(
+            path,
+            "the file is UTF-16 text; OBJ is read as UTF-8 (convert it first)",
+        ));
+    }
     let mut warnings = Vec::new();
+    let text = sanitize(&String::from_utf8_lossy(&bytes), &mut warnings);
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let mtl_warning = std::cell::RefCell::new(Vec::<String>::new());
     let loader = |p: &Path| {
         let full = dir.join(p);
@@ -61,9 +107,9 @@ pub fn load(path: &Path) -> Result<Mesh, MeshError> {
                 "faces name texture or normal indices that do not exist: those attributes are dropped, the faces kept"
                     .to_string(),
             );
-            parse(&strip_face_attributes(&text)).map_err(|e| MeshError::invalid(path, describe(e)))?
+            parse(&strip_face_attributes(&text)).map_err(|e| MeshError::invalid(path, describe(&text, e)))?
         }
-        Err(e) => return Err(MeshError::invalid(path, describe(e))),
+        Err(e) => return Err(MeshError::invalid(path, describe(&text, e))),
     };
     warnings.extend(mtl_warning.into_inner());
     let materials = materials.unwrap_or_default();
@@ -78,10 +124,11 @@ pub fn load(path: &Path) -> Result<Mesh, MeshError> {
     Ok(mesh)
 }
 
-fn describe(e: tobj::LoadError) -> String {
+fn describe(text: &str, e: tobj::LoadError) -> String {
+    let at = locate(text, &e).map(|l| format!(" at {l}")).unwrap_or_default();
     match e {
         tobj::LoadError::FaceVertexOutOfBounds => "a face names a vertex that does not exist".into(),
-        other => format!("not a readable OBJ file: {other}"),
+        other => format!("not a readable OBJ file: {other}{at}"),
     }
 }
 
