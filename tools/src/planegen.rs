@@ -126,8 +126,8 @@ impl Board {
         let c = DVec3::new(self.center.x, self.center.y, self.z);
         let size = self.sx.max(self.sy);
         let view = View {
-            from: c + DVec3::new(0.0, -0.62 * size, 0.16 * size),
-            at: c + DVec3::new(0.0, 0.2 * size, 0.0),
+            from: c + DVec3::new(0.0, -0.62 * size, 0.2 * size),
+            at: c + DVec3::new(0.0, 0.0, 0.0),
             up: DVec3::Z,
             angle: 45.0,
             hither: 0.001 * size,
