@@ -335,3 +335,17 @@ fn obj_parse_errors_name_the_line_and_nameless_usemtl_is_tolerated() {
     std::fs::write(&p, [0xFF, 0xFE, b'v', 0]).unwrap();
     assert!(nffkit_formats::mesh::load(&p).unwrap_err().to_string().contains("UTF-16"));
 }
+
+#[test]
+fn gltf_with_an_external_bin() {
+    let dir = tempfile::tempdir().unwrap();
+    let bin: Vec<u8> = TRI.iter().flat_map(|f| f.to_le_bytes()).collect();
+    std::fs::write(dir.path().join("tri.bin"), &bin).unwrap();
+    let json = r#"{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0,"translation":[0,0,2]}],
+"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"buffers":[{"byteLength":36,"uri":"tri.bin"}],
+"bufferViews":[{"buffer":0,"byteLength":36}],
+"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}]}"#;
+    let (scene, _, _) = convert(&write_file(dir.path(), "ext.gltf", json), &Options::default());
+    let b = scene.bounds().unwrap();
+    assert_eq!((b.0, b.1), (DVec3::new(0.0, 0.0, 2.0), DVec3::new(1.0, 1.0, 2.0)));
+}
