@@ -102,7 +102,12 @@ fn bad_input_fails_cleanly_and_leaves_no_image() {
     assert!(err.contains("bad.nff:1:3"), "{err}");
     assert!(err.contains("expected a colour component, found `0.0780.3610.753`"), "{err}");
     assert!(!out.exists());
-    for args in [vec!["--spp", "0"], vec!["-o", "x.jpg"], vec!["--width", "0"]] {
+    for args in [
+        vec!["--spp", "0"],
+        vec!["-o", "x.jpg"],
+        vec!["--width", "0"],
+        vec!["--width", "65536", "--height", "65536"],
+    ] {
         let o = run(RENDER, &args, None);
         assert!(!o.status.success(), "{args:?}");
     }

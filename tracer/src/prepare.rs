@@ -59,7 +59,7 @@ pub enum PrepareError {
     #[error("the scene has no view (`v` block); a fragment cannot be rendered on its own")]
     NoView,
     /// Zero or absurd image size.
-    #[error("image size {0}x{1} is not renderable (each side must be 1 to 65536)")]
+    #[error("image size {0}x{1} is not renderable (each side 1 to 65536, at most 2^27 pixels)")]
     BadSize(u32, u32),
 }
 
@@ -89,7 +89,9 @@ pub fn prepare(scene: &Scene, opts: &PrepareOptions) -> Result<RenderScene, Prep
     let view = scene.view.as_ref().ok_or(PrepareError::NoView)?;
     let w = opts.width.unwrap_or(view.resolution[0]);
     let h = opts.height.unwrap_or(view.resolution[1]);
-    if w == 0 || h == 0 || w > 65536 || h > 65536 {
+    // The film holds 16 bytes a pixel: 2^27 pixels is 2 GiB, the most a
+    // render may ask for before memory, not the renderer, gives out.
+    if w == 0 || h == 0 || w > 65536 || h > 65536 || w as u64 * h as u64 > 1 << 27 {
         return Err(PrepareError::BadSize(w, h));
     }
     let camera = Camera::new(view, w, h).with_lens(opts.aperture, opts.focus);
