@@ -56,8 +56,8 @@ impl Board {
         if self.nx == 0 || self.ny == 0 {
             bail!("--nx and --ny must be at least 1 (got {} and {})", self.nx, self.ny);
         }
-        if self.nx as u64 * self.ny as u64 > 50_000_000 {
-            bail!("{}x{} squares is too many (at most 50 million)", self.nx, self.ny);
+        if self.nx as u64 * self.ny as u64 > 4_000_000 {
+            bail!("{}x{} squares is too many (at most 4 million)", self.nx, self.ny);
         }
         if !(self.sx > 0.0 && self.sy > 0.0 && self.sx.is_finite() && self.sy.is_finite()) {
             bail!("--sx and --sy must be positive (got {} and {})", self.sx, self.sy);
