@@ -1,7 +1,7 @@
 //! Small pieces every binary shares: argument value parsers, writing output
 //! to a file (atomically) or standard output, and the exit path.
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use glam::{DVec2, DVec3};
 use std::io::{self, BufWriter, Write};
 use std::path::Path;
@@ -72,14 +72,4 @@ pub fn exit(result: Result<()>, tool: &str) -> ExitCode {
             ExitCode::FAILURE
         }
     }
-}
-
-/// Refuse to overwrite an input with an output unless asked.
-pub fn check_not_same(input: &Path, output: &Path) -> Result<()> {
-    if let (Ok(a), Ok(b)) = (input.canonicalize(), output.canonicalize()) {
-        if a == b {
-            bail!("{} is both input and output", input.display());
-        }
-    }
-    Ok(())
 }

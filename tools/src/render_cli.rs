@@ -16,7 +16,7 @@ use nffkit_tracer::prepare::{prepare, PrepareOptions, RenderScene};
 use nffkit_tracer::render::{render, RenderOutput, RenderSettings};
 use nffkit_tracer::sampling::{Sampler, SamplerKind};
 use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -454,9 +454,4 @@ pub fn main_with(args: Args) -> ExitCode {
             ExitCode::FAILURE
         }
     }
-}
-
-/// True when `path` names standard input.
-pub fn is_stdin(path: &Path) -> bool {
-    path.as_os_str() == "-"
 }

@@ -140,9 +140,9 @@ fn build_subtree(prims: &mut [BuildPrim], offset: usize, depth: usize) -> Vec<Bv
         build_nodes(prims, offset, depth, &mut nodes);
         return nodes;
     }
-    let bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
+    let (bounds, cb) = bounds_of(prims);
     let node = |count| BvhNode { min: bounds.min.into(), link: offset as u32, max: bounds.max.into(), count };
-    let Some(mid) = sah_split(prims, &bounds) else {
+    let Some(mid) = sah_split(prims, &bounds, &cb) else {
         return vec![node(prims.len() as u32)];
     };
     let (lp, rp) = prims.split_at_mut(mid);
@@ -174,14 +174,14 @@ fn build_nodes(prims: &mut [BuildPrim], offset: usize, depth: usize, nodes: &mut
             nodes[p].link = index as u32;
         }
         let range = &mut prims[task.start..task.end];
-        let bounds = range.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
+        let (bounds, cb) = bounds_of(range);
         let mut node = BvhNode {
             min: bounds.min.into(),
             link: (offset + task.start) as u32,
             max: bounds.max.into(),
             count: 0,
         };
-        let split = if task.depth + 1 >= MAX_DEPTH { None } else { sah_split(range, &bounds) };
+        let split = if task.depth + 1 >= MAX_DEPTH { None } else { sah_split(range, &bounds, &cb) };
         match split {
             None => {
                 node.count = range.len() as u32;
@@ -200,19 +200,19 @@ fn build_nodes(prims: &mut [BuildPrim], offset: usize, depth: usize, nodes: &mut
 
 /// Partition `prims` by the cheapest binned SAH split; `None` when a leaf is
 /// cheaper (or nothing can be split). Returns the size of the left part.
-fn sah_split(prims: &mut [BuildPrim], bounds: &Aabb) -> Option<usize> {
+fn sah_split(prims: &mut [BuildPrim], bounds: &Aabb, cb: &Aabb) -> Option<usize> {
     let n = prims.len();
     if n <= 2 {
         return None;
     }
-    let cb = prims.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid));
     let extent = cb.size();
     let mut best: Option<(f32, usize, usize)> = None; // cost, axis, bin
+    let all_bins = bin_all(prims, cb);
     for axis in 0..3 {
         if extent[axis] <= 0.0 {
             continue;
         }
-        let bins = bin_axis(prims, &cb, axis);
+        let bins = &all_bins[axis];
         // Sweep from the right to get right-side areas and counts.
         let mut right_area = [0.0f32; BINS];
         let mut right_count = [0u32; BINS];
@@ -253,15 +253,19 @@ fn bin_index(c: f32, lo: f32, scale: f32) -> usize {
     (((c - lo) * scale) as usize).min(BINS - 1)
 }
 
-fn bin_axis(prims: &[BuildPrim], cb: &Aabb, axis: usize) -> [Bin; BINS] {
-    let scale = BINS as f32 / cb.size()[axis];
-    let lo = cb.min[axis];
+/// Bin the primitives' centroids along all three axes in one pass.
+fn bin_all(prims: &[BuildPrim], cb: &Aabb) -> [[Bin; BINS]; 3] {
+    let size = cb.size();
+    let scale = Vec3A::select(size.cmpgt(Vec3A::ZERO), Vec3A::splat(BINS as f32) / size, Vec3A::ZERO);
+    let lo = cb.min;
     let fill = |chunk: &[BuildPrim]| {
-        let mut bins = [EMPTY_BIN; BINS];
+        let mut bins = [[EMPTY_BIN; BINS]; 3];
         for p in chunk {
-            let b = &mut bins[bin_index(p.centroid[axis], lo, scale)];
-            b.bounds = b.bounds.union(p.bounds);
-            b.count += 1;
+            for (axis, axis_bins) in bins.iter_mut().enumerate() {
+                let b = &mut axis_bins[bin_index(p.centroid[axis], lo[axis], scale[axis])];
+                b.bounds = b.bounds.union(p.bounds);
+                b.count += 1;
+            }
         }
         bins
     };
@@ -269,11 +273,13 @@ fn bin_axis(prims: &[BuildPrim], cb: &Aabb, axis: usize) -> [Bin; BINS] {
         // Large nodes near the root: bin on all cores. The merge is exact
         // (unions and counts), so the tree does not depend on thread count.
         prims.par_chunks(1 << 13).map(fill).reduce(
-            || [EMPTY_BIN; BINS],
+            || [[EMPTY_BIN; BINS]; 3],
             |mut a, b| {
-                for i in 0..BINS {
-                    a[i].bounds = a[i].bounds.union(b[i].bounds);
-                    a[i].count += b[i].count;
+                for (aa, ba) in a.iter_mut().zip(&b) {
+                    for (x, y) in aa.iter_mut().zip(ba) {
+                        x.bounds = x.bounds.union(y.bounds);
+                        x.count += y.count;
+                    }
                 }
                 a
             },
@@ -281,6 +287,11 @@ fn bin_axis(prims: &[BuildPrim], cb: &Aabb, axis: usize) -> [Bin; BINS] {
     } else {
         fill(prims)
     }
+}
+
+/// Bounds of the primitives and of their centroids, in one pass.
+fn bounds_of(prims: &[BuildPrim]) -> (Aabb, Aabb) {
+    prims.iter().fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), p| (b.union(p.bounds), c.grow(p.centroid)))
 }
 
 /// In-place partition; returns the number of elements satisfying `pred`.
