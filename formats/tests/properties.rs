@@ -97,6 +97,23 @@ proptest! {
     }
 
     #[test]
+    fn numbers_read_exactly_like_the_standard_library(
+        s in prop_oneof![
+            "[-+]?[0-9]{0,20}(\\.[0-9]{0,20})?([eE][-+]?[0-9]{1,3})?",
+            any::<f64>().prop_map(|x| format!("{x}")),
+            any::<f64>().prop_map(|x| format!("{x:e}")),
+        ]
+    ) {
+        let src = format!("v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 45\nhither 0\nresolution 1 1\ns {s} 0 0 1\n");
+        let ours = nff::parse(src.as_bytes(), &ParseOptions::default()).ok().map(|p| match p.scene.primitives[0].shape {
+            nffkit_formats::Shape::Sphere { center, .. } => center.x.to_bits(),
+            _ => unreachable!(),
+        });
+        let std = s.parse::<f64>().ok().filter(|v| v.is_finite()).map(f64::to_bits);
+        prop_assert_eq!(ours, std, "{}", s);
+    }
+
+    #[test]
     fn arbitrary_bytes_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..512)) {
         let _ = nff::parse(&bytes, &ParseOptions::default());
         let _ = nff::parse(&bytes, &ParseOptions { lenient: true, fragment: true });

@@ -9,6 +9,7 @@
 mod diag;
 mod geometry_checks;
 mod lexer;
+mod number;
 mod parse;
 mod write;
 

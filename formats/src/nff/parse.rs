@@ -83,12 +83,10 @@ fn is_entity_keyword(t: &[u8]) -> bool {
     ENTITY_KEYWORDS.contains(&t)
 }
 
-fn parse_number(text: &[u8]) -> Option<f64> {
-    // Rust's float grammar accepts what C's strtod does for NFF's purposes
-    // (`.5`, `-0`, `1e-16`, `+2`), plus `inf`/`nan`, which are rejected by the
-    // caller with their own message.
-    std::str::from_utf8(text).ok()?.parse::<f64>().ok()
-}
+// Rust's float grammar accepts what C's strtod does for NFF's purposes
+// (`.5`, `-0`, `1e-16`, `+2`), plus `inf`/`nan`, which the caller rejects
+// with their own message.
+use super::number::parse_number;
 
 /// What a number is, described only when a message needs it (formatting a
 /// description per vertex would dominate the reading time).
