@@ -10,6 +10,7 @@
 pub mod image_io;
 pub mod mesh;
 pub mod nff;
+pub mod polygon;
 pub mod scene;
 
 pub use scene::{Color, Light, Material, Primitive, Scene, Shape, SourceLine, View};

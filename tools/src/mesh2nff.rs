@@ -9,6 +9,7 @@ use anyhow::Result;
 use glam::DVec3;
 use nffkit_formats::mesh::{Corner, Face, Mesh};
 use nffkit_formats::nff::NffWriter;
+use nffkit_formats::polygon::newell_normal;
 use nffkit_formats::{Light, View};
 use nffkit_tracer::triangulate::triangulate;
 use std::io::Write;
@@ -94,9 +95,12 @@ fn transform(mesh: &Mesh, o: &Options) -> Vec<DVec3> {
 /// Area-weighted normals per position, from the faces that lack normals.
 fn smooth_normals(mesh: &Mesh, pos: &[DVec3]) -> Vec<DVec3> {
     let mut n = vec![DVec3::ZERO; pos.len()];
+    let mut verts = Vec::new();
     for f in &mesh.faces {
         let c = mesh.corners_of(f);
-        let face_n = newell(c.iter().map(|c| pos[c.position as usize]));
+        verts.clear();
+        verts.extend(c.iter().map(|c| pos[c.position as usize]));
+        let face_n = newell_normal(&verts);
         for corner in c {
             n[corner.position as usize] += face_n; // Newell's length is twice the area
         }
@@ -104,19 +108,9 @@ fn smooth_normals(mesh: &Mesh, pos: &[DVec3]) -> Vec<DVec3> {
     n.iter().map(|v| v.normalize_or_zero()).collect()
 }
 
-fn newell(points: impl Iterator<Item = DVec3> + Clone) -> DVec3 {
-    let v: Vec<DVec3> = points.collect();
-    let mut n = DVec3::ZERO;
-    for i in 0..v.len() {
-        let (a, b) = (v[i], v[(i + 1) % v.len()]);
-        n += DVec3::new((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
-    }
-    n
-}
-
 /// Planar (within 1e-6 of the size) and convex (all turns one way).
 fn planar_convex(v: &[DVec3]) -> bool {
-    let n = newell(v.iter().copied());
+    let n = newell_normal(v);
     let size = bounds(v.iter().copied());
     let extent = (size.1 - size.0).length();
     if n.length() == 0.0 {
@@ -194,7 +188,7 @@ pub fn write<W: Write>(mesh: &Mesh, o: &Options, out: W) -> Result<(W, Summary)>
         if with_normals {
             norms.extend(corners.iter().map(|c| normal_of(c).unwrap()));
         }
-        if newell(verts.iter().copied()).length_squared() == 0.0 {
+        if newell_normal(&verts).length_squared() == 0.0 {
             summary.degenerate += 1;
             continue;
         }

@@ -199,7 +199,6 @@ fn run_tiles<I: Intersector>(
                 let (x1, y1) = ((tx + TILE).min(grid.width), (ty + TILE).min(grid.height));
                 let mut colors = Vec::with_capacity(((x1 - tx) * (y1 - ty)) as usize);
                 let mut costs = Vec::with_capacity(colors.capacity());
-                let before = th.counters;
                 for y in ty..y1 {
                     for x in tx..x1 {
                         let work = th.counters.work();
@@ -207,8 +206,8 @@ fn run_tiles<I: Intersector>(
                         costs.push(th.counters.work() - work);
                     }
                 }
-                let mut tile_counters = th.counters;
-                subtract(&mut tile_counters, &before);
+                // Each tile takes its thread's counters, leaving them zeroed.
+                let tile_counters = std::mem::take(&mut th.counters);
                 let n = done.fetch_add(1, Ordering::Relaxed) + 1;
                 progress(n, total);
                 (tile, colors, costs, tile_counters)
@@ -230,16 +229,4 @@ fn run_tiles<I: Intersector>(
         counters += c;
     }
     (pixels, Some(cost), counters)
-}
-
-fn subtract(a: &mut Counters, b: &Counters) {
-    a.eye -= b.eye;
-    a.reflected -= b.reflected;
-    a.refracted -= b.refracted;
-    a.shadow -= b.shadow;
-    for i in 0..3 {
-        a.tests[i] -= b.tests[i];
-    }
-    a.visits -= b.visits;
-    a.mailbox_hits -= b.mailbox_hits;
 }

@@ -4,6 +4,7 @@
 //! polygon.
 
 use glam::{DVec2, DVec3};
+use nffkit_formats::polygon::newell_normal;
 
 /// Triangles as index triples into `v`, wound like the polygon. Triangles of
 /// zero area are dropped. Self-intersecting outlines, which have no proper
@@ -16,7 +17,7 @@ pub fn triangulate(v: &[DVec3]) -> Vec<[u32; 3]> {
     if n == 3 {
         return vec![[0, 1, 2]];
     }
-    let normal = newell(v);
+    let normal = newell_normal(v);
     let pts = project(v, normal);
     // Work on a counter-clockwise 2D outline; remember to flip back.
     let ccw = signed_area(&pts) >= 0.0;
@@ -49,15 +50,6 @@ pub fn triangulate(v: &[DVec3]) -> Vec<[u32; 3]> {
         a.length_squared() > 0.0
     });
     out
-}
-
-fn newell(v: &[DVec3]) -> DVec3 {
-    let mut n = DVec3::ZERO;
-    for (i, a) in v.iter().enumerate() {
-        let b = v[(i + 1) % v.len()];
-        n += DVec3::new((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
-    }
-    n
 }
 
 /// Projects onto the axis plane the normal faces most, keeping orientation
@@ -145,7 +137,7 @@ mod tests {
         let t = triangulate(&v);
         assert_eq!(t.len(), 22);
         let (area, n) = area3(&v, &t);
-        let expect = newell(&v).length() * 0.5;
+        let expect = newell_normal(&v).length() * 0.5;
         assert!((area - expect).abs() < 1e-9, "{area} vs {expect}");
         assert!(n.x < 0.0);
     }

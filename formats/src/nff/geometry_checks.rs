@@ -2,22 +2,12 @@
 //! planarity, a convex first corner, simple (non-self-intersecting) outlines,
 //! and unit patch normals that agree with the winding.
 
+use crate::polygon::newell_normal;
 use glam::{DVec2, DVec3};
 
 /// Polygons with more vertices than this skip the quadratic
 /// self-intersection check.
 const MAX_SELF_INTERSECTION_CHECK: usize = 1024;
-
-/// The polygon's area-weighted normal by Newell's method (robust for concave
-/// and slightly non-planar polygons); its length is twice the area.
-pub fn newell_normal(v: &[DVec3]) -> DVec3 {
-    let mut n = DVec3::ZERO;
-    for (i, a) in v.iter().enumerate() {
-        let b = v[(i + 1) % v.len()];
-        n += DVec3::new((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
-    }
-    n
-}
 
 /// Messages for everything suspicious about one polygon (or patch, when
 /// `normals` is given).

@@ -412,7 +412,7 @@ impl<'a> Parser<'a> {
     }
 
     fn polygon(&mut self, t: Token<'a>, e: Entity, patch: bool) -> Res<()> {
-        let (n, count_token) = self.count("a vertex count", 3, MAX_VERTICES, e)?;
+        let (n, _) = self.count("a vertex count", 3, MAX_VERTICES, e)?;
         // Capacity is capped: the count is only a promise until the vertices
         // are actually read.
         let cap = n.min(4096) as usize;
@@ -428,7 +428,6 @@ impl<'a> Parser<'a> {
         for w in warnings {
             self.warn(&t, w);
         }
-        let _ = count_token;
         let shape = if patch { Shape::Patch { vertices, normals } } else { Shape::Polygon { vertices } };
         self.object(t, shape);
         Ok(())

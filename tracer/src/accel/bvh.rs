@@ -54,12 +54,11 @@ impl BvhNode {
     }
 }
 
-/// The hierarchy: built binary, traversed 4-wide.
+/// The hierarchy: built binary, then collapsed to the 4-wide nodes that
+/// traversal uses (the binary tree is not kept).
 #[derive(Debug, Clone, Default)]
 pub struct Bvh {
-    /// The binary tree as built, depth first; node 0 is the root.
-    pub nodes: Vec<BvhNode>,
-    /// The same tree collapsed to 4-wide nodes, which traversal uses.
+    /// 4-wide nodes, depth first; node 0 is the root.
     pub wide: Vec<Node4>,
     /// Primitive ids in leaf order.
     pub prims: Vec<u32>,
@@ -101,11 +100,9 @@ impl Bvh {
                 BuildPrim { bounds, centroid: bounds.center(), id }
             })
             .collect();
-        let nodes = if prims.is_empty() { Vec::new() } else { build_subtree(&mut prims, 0, 0) };
-        let wide = collapse(&nodes);
+        let binary = if prims.is_empty() { Vec::new() } else { build_subtree(&mut prims, 0, 0) };
         Bvh {
-            nodes,
-            wide,
+            wide: collapse(&binary),
             prims: prims.iter().map(|p| p.id).collect(),
             build_seconds: t0.elapsed().as_secs_f64(),
         }
@@ -123,7 +120,7 @@ impl Bvh {
 
     /// Bounds of the whole scene.
     pub fn bounds(&self) -> Aabb {
-        self.nodes.first().map(|n| n.bounds()).unwrap_or(Aabb::EMPTY)
+        self.wide.first().map(|n| n.bounds()).unwrap_or(Aabb::EMPTY)
     }
 }
 

@@ -48,7 +48,7 @@ pub fn collapse(bin: &[BvhNode]) -> Vec<Node4> {
         return out;
     }
     if bin[0].is_leaf() {
-        out.push(node_from(&[0], bin, &mut Vec::new()));
+        out.push(node_from(&[0], bin));
         return out;
     }
     build(0, bin, &mut out);
@@ -75,8 +75,8 @@ fn build(i: usize, bin: &[BvhNode], out: &mut Vec<Node4>) -> u32 {
         kids.extend(children(k, bin));
     }
     let index = out.len();
-    out.push(node_from(&[], bin, &mut Vec::new()));
-    let mut node = node_from(&kids, bin, &mut Vec::new());
+    out.push(node_from(&[], bin));
+    let mut node = node_from(&kids, bin);
     for (slot, &k) in kids.iter().enumerate() {
         if !bin[k].is_leaf() {
             node.child[slot] = build(k, bin, out);
@@ -86,7 +86,7 @@ fn build(i: usize, bin: &[BvhNode], out: &mut Vec<Node4>) -> u32 {
     index as u32
 }
 
-fn node_from(kids: &[usize], bin: &[BvhNode], _scratch: &mut Vec<u32>) -> Node4 {
+fn node_from(kids: &[usize], bin: &[BvhNode]) -> Node4 {
     let mut min = [[f32::INFINITY; 4]; 3];
     let mut max = [[f32::NEG_INFINITY; 4]; 3];
     let mut child = [0u32; 4];
