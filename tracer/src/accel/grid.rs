@@ -182,6 +182,7 @@ impl Grid {
             bytes: (self.offsets.len() + self.items.len()) * 4,
             nodes: self.offsets.len() - 1,
             summary: if self.mailbox { "uniform grid with mailboxes" } else { "uniform grid, no mailboxes" },
+            unit: "cells",
         }
     }
 

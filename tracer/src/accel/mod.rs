@@ -7,12 +7,10 @@
 mod brute;
 mod bvh;
 mod grid;
-mod wide;
 
 pub use brute::BruteForce;
-pub use bvh::{Bvh, BvhNode};
+pub use bvh::Bvh;
 pub use grid::{Grid, Mailbox};
-pub use wide::Node4;
 
 use crate::geometry::{Geometry, Hit};
 use crate::math::RayQuery;
@@ -100,6 +98,8 @@ pub struct AccelInfo {
     pub nodes: usize,
     /// A one-line description.
     pub summary: &'static str,
+    /// What `nodes` counts, for reports: "nodes" or "cells".
+    pub unit: &'static str,
 }
 
 impl Accel {
@@ -115,7 +115,7 @@ impl Accel {
     /// Size and build time.
     pub fn info(&self) -> AccelInfo {
         match self {
-            Accel::None(_) => AccelInfo { summary: "none (brute force)", ..Default::default() },
+            Accel::None(_) => AccelInfo { summary: "none (brute force)", unit: "nodes", ..Default::default() },
             Accel::Grid(g) => g.info(),
             Accel::Bvh(b) => b.info(),
         }

@@ -8,10 +8,10 @@
 //! have empty boxes (min = +inf, max = −inf), which the slab test never hits
 //! because near and far planes are chosen by the sign of 1/d.
 
-use super::bvh::BvhNode;
-use crate::aabb::{Aabb, SLAB_WIDEN};
+use super::build::BvhNode;
+use crate::aabb::SLAB_WIDEN;
 use crate::math::RayQuery;
-use glam::{Vec3A, Vec4};
+use glam::Vec4;
 
 /// A 4-wide node.
 #[derive(Debug, Clone, Copy)]
@@ -40,9 +40,15 @@ pub struct Entry {
 /// pushed per level); the per-thread stack is allocated once at this size.
 pub const STACK: usize = 256;
 
-/// Collapse a binary tree (depth-first, first child at `i + 1`) into 4-wide
-/// nodes.
-pub fn collapse(bin: &[BvhNode]) -> Vec<Node4> {
+impl Node4 {
+    /// Collapse a binary tree (depth-first, first child at `i + 1`) into
+    /// 4-wide nodes, depth first; node 0 is the root.
+    pub fn collapse(bin: &[BvhNode]) -> Vec<Node4> {
+        collapse(bin)
+    }
+}
+
+fn collapse(bin: &[BvhNode]) -> Vec<Node4> {
     let mut out = Vec::with_capacity(bin.len() / 2 + 1);
     if bin.is_empty() {
         return out;
@@ -106,18 +112,6 @@ fn node_from(kids: &[usize], bin: &[BvhNode]) -> Node4 {
 }
 
 impl Node4 {
-    /// Bounds of all children.
-    pub fn bounds(&self) -> Aabb {
-        let mut b = Aabb::EMPTY;
-        for s in (0..4).filter(|&s| self.min[0][s] <= self.max[0][s]) {
-            b = b.union(Aabb::new(
-                Vec3A::new(self.min[0][s], self.min[1][s], self.min[2][s]),
-                Vec3A::new(self.max[0][s], self.max[1][s], self.max[2][s]),
-            ));
-        }
-        b
-    }
-
     /// Entry distances of the ray into the four child boxes within
     /// `(t_min, t_max)`, and the mask of boxes hit. The same conservative
     /// slab test as [`Aabb::hit`], four boxes at a time.

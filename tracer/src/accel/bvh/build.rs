@@ -1,21 +1,17 @@
-//! A bounding volume hierarchy: binned surface-area-heuristic build,
-//! flattened depth-first into 32-byte nodes with `u32` links, traversed near
-//! child first with a fixed-size stack.
+//! The binary build of the BVH: binned surface-area heuristic (16 bins,
+//! all three axes binned in one pass, in parallel near the root), flattened
+//! depth-first into 32-byte [`BvhNode`]s with `u32` links. Large subtrees
+//! build their halves on both cores; the tree does not depend on it.
 //!
 //! Layout: the first child of an interior node is the next node in the
 //! array; `link` holds the second. A leaf's `link` is the start of its
-//! primitives in [`Bvh::prims`] and `count` their number (interior nodes
-//! have count 0).
+//! primitives in the primitive order this build returns, and `count` their
+//! number (interior nodes have count 0).
 
-use super::wide::{collapse, Entry, Node4, Ray4, STACK};
-use super::{test_prim, test_shadow, AccelInfo, Intersector};
 use crate::aabb::Aabb;
-use crate::geometry::{Geometry, Hit};
-use crate::math::RayQuery;
-use crate::stats::Counters;
+use crate::geometry::Geometry;
 use glam::Vec3A;
 use rayon::prelude::*;
-use std::time::Instant;
 
 /// One node, 32 bytes: bounds, link, primitive count.
 #[derive(Debug, Clone, Copy)]
@@ -43,7 +39,7 @@ const TRAVERSAL_COST: f32 = 1.0;
 impl BvhNode {
     /// The node's box.
     #[inline(always)]
-    pub fn bounds(&self) -> Aabb {
+    pub(crate) fn bounds(&self) -> Aabb {
         Aabb { min: Vec3A::from_array(self.min), max: Vec3A::from_array(self.max) }
     }
 
@@ -52,17 +48,6 @@ impl BvhNode {
     pub fn is_leaf(&self) -> bool {
         self.count > 0
     }
-}
-
-/// The hierarchy: built binary, then collapsed to the 4-wide nodes that
-/// traversal uses (the binary tree is not kept).
-#[derive(Debug, Clone, Default)]
-pub struct Bvh {
-    /// 4-wide nodes, depth first; node 0 is the root.
-    pub wide: Vec<Node4>,
-    /// Primitive ids in leaf order.
-    pub prims: Vec<u32>,
-    build_seconds: f64,
 }
 
 #[derive(Clone, Copy)]
@@ -89,39 +74,18 @@ struct Task {
     parent: Option<usize>,
 }
 
-impl Bvh {
-    /// Build over every primitive of `geom`.
-    pub fn build(geom: &Geometry) -> Bvh {
-        let t0 = Instant::now();
-        let mut prims: Vec<BuildPrim> = (0..geom.len() as u32)
-            .into_par_iter()
-            .map(|id| {
-                let bounds = geom.bounds(id);
-                BuildPrim { bounds, centroid: bounds.center(), id }
-            })
-            .collect();
-        let binary = if prims.is_empty() { Vec::new() } else { build_subtree(&mut prims, 0, 0) };
-        Bvh {
-            wide: collapse(&binary),
-            prims: prims.iter().map(|p| p.id).collect(),
-            build_seconds: t0.elapsed().as_secs_f64(),
-        }
-    }
-
-    /// Size and build time.
-    pub fn info(&self) -> AccelInfo {
-        AccelInfo {
-            build_seconds: self.build_seconds,
-            bytes: self.wide.len() * std::mem::size_of::<Node4>() + self.prims.len() * 4,
-            nodes: self.wide.len(),
-            summary: "BVH (binned SAH, 4-wide)",
-        }
-    }
-
-    /// Bounds of the whole scene.
-    pub fn bounds(&self) -> Aabb {
-        self.wide.first().map(|n| n.bounds()).unwrap_or(Aabb::EMPTY)
-    }
+/// The binary tree over every primitive of `geom` and the primitive ids in
+/// leaf order (the order `BvhNode::link` of a leaf indexes).
+pub fn build_binary(geom: &Geometry) -> (Vec<BvhNode>, Vec<u32>) {
+    let mut prims: Vec<BuildPrim> = (0..geom.len() as u32)
+        .into_par_iter()
+        .map(|id| {
+            let bounds = geom.bounds(id);
+            BuildPrim { bounds, centroid: bounds.center(), id }
+        })
+        .collect();
+    let nodes = if prims.is_empty() { Vec::new() } else { build_subtree(&mut prims, 0, 0) };
+    (nodes, prims.iter().map(|p| p.id).collect())
 }
 
 /// Subtrees larger than this are split and their halves built in parallel.
@@ -303,107 +267,3 @@ fn partition<T>(v: &mut [T], pred: impl Fn(&T) -> bool) -> usize {
     i
 }
 
-impl Intersector for Bvh {
-    /// The traversal stack, allocated once per thread.
-    type Scratch = Vec<Entry>;
-
-    fn scratch(&self, _: &Geometry) -> Vec<Entry> {
-        vec![Entry::default(); STACK]
-    }
-
-    #[inline]
-    fn intersect(
-        &self,
-        geom: &Geometry,
-        q: &RayQuery,
-        t_max: f32,
-        stack: &mut Vec<Entry>,
-        c: &mut Counters,
-    ) -> Option<Hit> {
-        if self.wide.is_empty() {
-            return None;
-        }
-        let r = Ray4::new(q);
-        let mut best: Option<Hit> = None;
-        let stack = &mut stack[..STACK];
-        stack[0] = Entry { child: 0, count: 0, t: q.t_min };
-        let mut sp = 1;
-        while sp > 0 {
-            sp -= 1;
-            let e = stack[sp];
-            let limit = best.map_or(t_max, |h| h.t);
-            if e.t > limit {
-                continue; // a nearer hit was found since this was pushed
-            }
-            if e.count > 0 {
-                for &id in &self.prims[e.child as usize..(e.child + e.count) as usize] {
-                    test_prim(geom, id, q, &mut best, t_max, c);
-                }
-                continue;
-            }
-            c.visits += 1;
-            let node = &self.wide[e.child as usize];
-            let (t, mut mask) = node.hit(&r, limit);
-            // Push the hit children farthest first, so the nearest pops next.
-            let mut hits = [(0.0f32, 0usize); 4];
-            let mut n = 0;
-            while mask != 0 {
-                let slot = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                let ts = t[slot];
-                let mut k = n;
-                while k > 0 && hits[k - 1].0 < ts {
-                    hits[k] = hits[k - 1];
-                    k -= 1;
-                }
-                hits[k] = (ts, slot);
-                n += 1;
-            }
-            for &(ts, slot) in &hits[..n] {
-                stack[sp] = node.entry(slot, ts);
-                sp += 1;
-            }
-        }
-        best
-    }
-
-    #[inline]
-    fn occluded(
-        &self,
-        geom: &Geometry,
-        q: &RayQuery,
-        t_max: f32,
-        stack: &mut Vec<Entry>,
-        c: &mut Counters,
-    ) -> bool {
-        if self.wide.is_empty() {
-            return false;
-        }
-        let r = Ray4::new(q);
-        let stack = &mut stack[..STACK];
-        stack[0] = Entry { child: 0, count: 0, t: q.t_min };
-        let mut sp = 1;
-        while sp > 0 {
-            sp -= 1;
-            let e = stack[sp];
-            if e.count > 0 {
-                for &id in &self.prims[e.child as usize..(e.child + e.count) as usize] {
-                    if test_shadow(geom, id, q, t_max, c) {
-                        return true;
-                    }
-                }
-                continue;
-            }
-            c.visits += 1;
-            let node = &self.wide[e.child as usize];
-            let (t, mut mask) = node.hit(&r, t_max);
-            while mask != 0 {
-                let slot = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                stack[sp] = node.entry(slot, t[slot]);
-                sp += 1;
-            }
-        }
-        false
-    }
-}

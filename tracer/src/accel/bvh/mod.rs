@@ -1,0 +1,152 @@
+//! A bounding volume hierarchy, one folder per form (as obvhs lays it out):
+//! `build` makes the binary binned-SAH tree, `wide` turns it into the 4-wide
+//! nodes that traversal uses, and this file holds the traversal. Arrows run
+//! one way: `mod → wide → build`.
+
+mod build;
+mod wide;
+
+pub use wide::Node4;
+
+use super::{test_prim, test_shadow, AccelInfo, Intersector};
+use crate::geometry::{Geometry, Hit};
+use crate::math::RayQuery;
+use crate::stats::Counters;
+use std::time::Instant;
+use wide::{Entry, Ray4, STACK};
+
+/// The hierarchy: built binary, then collapsed to the 4-wide nodes that
+/// traversal uses (the binary tree is not kept).
+#[derive(Debug, Clone, Default)]
+pub struct Bvh {
+    /// 4-wide nodes, depth first; node 0 is the root.
+    wide: Vec<Node4>,
+    /// Primitive ids in leaf order.
+    prims: Vec<u32>,
+    build_seconds: f64,
+}
+
+impl Bvh {
+    /// Build over every primitive of `geom`.
+    pub fn build(geom: &Geometry) -> Bvh {
+        let t0 = Instant::now();
+        let (binary, prims) = build::build_binary(geom);
+        Bvh { wide: Node4::collapse(&binary), prims, build_seconds: t0.elapsed().as_secs_f64() }
+    }
+
+    /// Size and build time.
+    pub fn info(&self) -> AccelInfo {
+        AccelInfo {
+            build_seconds: self.build_seconds,
+            bytes: self.wide.len() * std::mem::size_of::<Node4>() + self.prims.len() * 4,
+            nodes: self.wide.len(),
+            summary: "BVH (binned SAH, 4-wide)",
+            unit: "nodes",
+        }
+    }
+}
+
+impl Intersector for Bvh {
+    /// The traversal stack, allocated once per thread.
+    type Scratch = Vec<Entry>;
+
+    fn scratch(&self, _: &Geometry) -> Vec<Entry> {
+        vec![Entry::default(); STACK]
+    }
+
+    #[inline]
+    fn intersect(
+        &self,
+        geom: &Geometry,
+        q: &RayQuery,
+        t_max: f32,
+        stack: &mut Vec<Entry>,
+        c: &mut Counters,
+    ) -> Option<Hit> {
+        if self.wide.is_empty() {
+            return None;
+        }
+        let r = Ray4::new(q);
+        let mut best: Option<Hit> = None;
+        let stack = &mut stack[..STACK];
+        stack[0] = Entry { child: 0, count: 0, t: q.t_min };
+        let mut sp = 1;
+        while sp > 0 {
+            sp -= 1;
+            let e = stack[sp];
+            let limit = best.map_or(t_max, |h| h.t);
+            if e.t > limit {
+                continue; // a nearer hit was found since this was pushed
+            }
+            if e.count > 0 {
+                for &id in &self.prims[e.child as usize..(e.child + e.count) as usize] {
+                    test_prim(geom, id, q, &mut best, t_max, c);
+                }
+                continue;
+            }
+            c.visits += 1;
+            let node = &self.wide[e.child as usize];
+            let (t, mut mask) = node.hit(&r, limit);
+            // Push the hit children farthest first, so the nearest pops next.
+            let mut hits = [(0.0f32, 0usize); 4];
+            let mut n = 0;
+            while mask != 0 {
+                let slot = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                let ts = t[slot];
+                let mut k = n;
+                while k > 0 && hits[k - 1].0 < ts {
+                    hits[k] = hits[k - 1];
+                    k -= 1;
+                }
+                hits[k] = (ts, slot);
+                n += 1;
+            }
+            for &(ts, slot) in &hits[..n] {
+                stack[sp] = node.entry(slot, ts);
+                sp += 1;
+            }
+        }
+        best
+    }
+
+    #[inline]
+    fn occluded(
+        &self,
+        geom: &Geometry,
+        q: &RayQuery,
+        t_max: f32,
+        stack: &mut Vec<Entry>,
+        c: &mut Counters,
+    ) -> bool {
+        if self.wide.is_empty() {
+            return false;
+        }
+        let r = Ray4::new(q);
+        let stack = &mut stack[..STACK];
+        stack[0] = Entry { child: 0, count: 0, t: q.t_min };
+        let mut sp = 1;
+        while sp > 0 {
+            sp -= 1;
+            let e = stack[sp];
+            if e.count > 0 {
+                for &id in &self.prims[e.child as usize..(e.child + e.count) as usize] {
+                    if test_shadow(geom, id, q, t_max, c) {
+                        return true;
+                    }
+                }
+                continue;
+            }
+            c.visits += 1;
+            let node = &self.wide[e.child as usize];
+            let (t, mut mask) = node.hit(&r, t_max);
+            while mask != 0 {
+                let slot = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                stack[sp] = node.entry(slot, t[slot]);
+                sp += 1;
+            }
+        }
+        false
+    }
+}
