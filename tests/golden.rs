@@ -9,7 +9,11 @@
 use nffkit_formats::image_io::RgbImage;
 use nffkit_tools::golden::{self, check_case, compare, load_catalogue, render_case, write_failure_images};
 use std::collections::BTreeSet;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+
+fn scenes_dir() -> PathBuf {
+    golden::find_scenes_dir(Path::new(env!("CARGO_MANIFEST_DIR"))).unwrap()
+}
 
 fn out_dir() -> PathBuf {
     PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../target/golden"))
@@ -17,20 +21,21 @@ fn out_dir() -> PathBuf {
 
 #[test]
 fn every_case_matches_its_golden_image() {
-    let scenes = golden::scenes_dir();
+    let scenes = scenes_dir();
     let catalogue = load_catalogue(&scenes).unwrap();
     let mut failures = Vec::new();
     for case in &catalogue.case {
         let checked = check_case(case, &scenes)
             .unwrap_or_else(|e| panic!("case {} failed to render: {e:#}", case.name));
         if let Some(why) = &checked.failure {
-            let [a, e, d] = write_failure_images(&checked, &out_dir()).unwrap();
+            let images = write_failure_images(&checked, &out_dir()).unwrap();
             failures.push(format!(
-                "{}: {why}\n  actual:     {}\n  expected:   {}\n  difference: {}",
+                "{}: {why}\n  actual:     {}\n  expected:   {}\n  difference: {}\n  FLIP error: {}",
                 case.name,
-                a.display(),
-                e.display(),
-                d.display()
+                images.actual.display(),
+                images.expected.display(),
+                images.diff.display(),
+                images.flip.display()
             ));
         }
     }
@@ -39,7 +44,7 @@ fn every_case_matches_its_golden_image() {
 
 #[test]
 fn every_case_renders_identically_on_one_and_two_threads() {
-    let scenes = golden::scenes_dir();
+    let scenes = scenes_dir();
     for case in &load_catalogue(&scenes).unwrap().case {
         let one = render_case(case, &scenes, 1).unwrap();
         let two = render_case(case, &scenes, 2).unwrap();
@@ -49,7 +54,7 @@ fn every_case_renders_identically_on_one_and_two_threads() {
 
 #[test]
 fn every_golden_is_used_and_none_is_missing() {
-    let scenes = golden::scenes_dir();
+    let scenes = scenes_dir();
     let used: BTreeSet<String> =
         load_catalogue(&scenes).unwrap().case.iter().map(|c| format!("{}.png", c.golden_name())).collect();
     let present: BTreeSet<String> = std::fs::read_dir(scenes.join("golden"))
@@ -73,32 +78,35 @@ fn shifted(img: &RgbImage) -> RgbImage {
 }
 
 fn case_named(name: &str) -> golden::Case {
-    load_catalogue(&golden::scenes_dir()).unwrap().case.into_iter().find(|c| c.name == name).unwrap()
+    load_catalogue(&scenes_dir()).unwrap().case.into_iter().find(|c| c.name == name).unwrap()
 }
 
 #[test]
 fn the_comparator_passes_identical_and_fails_perturbed_images() {
-    let scenes = golden::scenes_dir();
+    let scenes = scenes_dir();
     let case = case_named("balls2-bvh");
     let img = render_case(&case, &scenes, 2).unwrap();
-    let same = compare(&img, &img);
-    assert_eq!((same.bad, same.mean), (0.0, 0.0));
+    let (same, _) = compare(&img, &img);
+    assert_eq!((same.bad, same.flip), (0.0, 0.0));
+    assert!(same.failure(&case).is_none());
     // Shifted one pixel to the right: edges move, the check must fail.
-    let d = compare(&shifted(&img), &img);
-    assert!(d.bad > 0.002 || d.mean > 0.002, "one-pixel shift passed: {d:?}");
-    // The sphere material 5% darker: the check must fail.
-    let mut scene_case = case.clone();
-    scene_case.source.sphereflake = None;
+    let (d, _) = compare(&shifted(&img), &img);
+    assert!(d.failure(&case).is_some(), "one-pixel shift passed: {d:?}");
+    // The sphere material 5% darker: the check must fail, and on FLIP
+    // alone (few pixels move by more than 8/255).
     let dir = tempfile_dir();
     let mut scene = golden::scene_of(&case, &scenes).unwrap();
     let last = scene.materials.len() - 1;
     scene.materials[last].color *= 0.95;
     let path = dir.join("darker.nff");
     std::fs::write(&path, nffkit_formats::nff::write(&scene, Vec::new()).unwrap()).unwrap();
-    scene_case.source.file = Some(path.to_string_lossy().into_owned());
-    let darker = render_case(&scene_case, &scenes, 2).unwrap();
-    let d = compare(&darker, &img);
-    assert!(d.bad > 0.002 || d.mean > 0.002, "5% colour change passed: {d:?}");
+    let darker_case =
+        golden::Case { source: golden::Source::File(path.to_string_lossy().into_owned()), ..case.clone() };
+    let darker = render_case(&darker_case, &scenes, 2).unwrap();
+    let (d, _) = compare(&darker, &img);
+    assert!(d.failure(&case).is_some(), "5% colour change passed: {d:?}");
+    let flip_only = golden::Case { max_bad: Some(1.0), ..case.clone() };
+    assert!(d.failure(&flip_only).is_some(), "FLIP alone missed a 5% colour change: {d:?}");
 }
 
 fn tempfile_dir() -> PathBuf {

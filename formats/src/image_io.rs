@@ -1,6 +1,7 @@
 //! Writing rendered images: 8-bit PNG and PPM, floating-point EXR and HDR,
-//! chosen by the file extension. Files are written to a temporary name and
-//! renamed, so a failed or interrupted write never leaves a partial image.
+//! chosen by the file extension. Files are written atomically
+//! ([`crate::atomic`]), so a failed or interrupted write never leaves a
+//! partial image.
 
 use std::io::{self, Write};
 use std::path::Path;
@@ -29,16 +30,21 @@ pub enum ImageKind {
     Hdr,
 }
 
+/// A path whose extension names no image format we write.
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("{0}: unknown image extension (use .png, .ppm, .exr or .hdr)")]
+pub struct UnknownImageKind(pub String);
+
 impl ImageKind {
-    /// The kind for a path's extension, `None` if unknown.
-    pub fn from_path(path: &Path) -> Option<ImageKind> {
-        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
-        Some(match ext.as_str() {
+    /// The kind for a path's extension.
+    pub fn from_path(path: &Path) -> Result<ImageKind, UnknownImageKind> {
+        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+        Ok(match ext.as_str() {
             "png" => ImageKind::Png,
             "ppm" => ImageKind::Ppm,
             "exr" => ImageKind::Exr,
             "hdr" => ImageKind::Hdr,
-            _ => return None,
+            _ => return Err(UnknownImageKind(path.display().to_string())),
         })
     }
 }
@@ -68,14 +74,9 @@ impl RgbImage {
 
 /// Write `img` to `path` in the format its extension names.
 pub fn save(img: &RgbImage, path: &Path, srgb: bool) -> io::Result<()> {
-    let kind = ImageKind::from_path(path).ok_or_else(|| {
-        io::Error::new(
-            io::ErrorKind::InvalidInput,
-            format!("{}: unknown image extension (use .png, .ppm, .exr or .hdr)", path.display()),
-        )
-    })?;
+    let kind = ImageKind::from_path(path).map_err(|e| io::Error::new(io::ErrorKind::InvalidInput, e))?;
     let bytes = encode(img, kind, srgb)?;
-    write_atomically(path, &bytes)
+    crate::atomic::write_bytes(path, &bytes)
 }
 
 /// Encode to bytes in memory.
@@ -106,28 +107,16 @@ pub fn encode(img: &RgbImage, kind: ImageKind, srgb: bool) -> io::Result<Vec<u8>
     Ok(buf)
 }
 
-/// Write bytes to a sibling temporary file, then rename it over `path`.
-pub fn write_atomically(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let name =
-        path.file_name().ok_or_else(|| io::Error::other(format!("{}: not a file name", path.display())))?;
-    let tmp = dir.join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
-    let result = std::fs::write(&tmp, bytes).and_then(|_| std::fs::rename(&tmp, path));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn kinds_by_extension() {
-        assert_eq!(ImageKind::from_path(Path::new("a.PNG")), Some(ImageKind::Png));
-        assert_eq!(ImageKind::from_path(Path::new("a.exr")), Some(ImageKind::Exr));
-        assert_eq!(ImageKind::from_path(Path::new("a.jpg")), None);
+        assert_eq!(ImageKind::from_path(Path::new("a.PNG")).unwrap(), ImageKind::Png);
+        assert_eq!(ImageKind::from_path(Path::new("a.exr")).unwrap(), ImageKind::Exr);
+        let e = ImageKind::from_path(Path::new("a.jpg")).unwrap_err().to_string();
+        assert!(e.contains("a.jpg") && e.contains(".png, .ppm"), "{e}");
     }
 
     #[test]

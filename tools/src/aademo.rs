@@ -3,6 +3,7 @@
 //! Produces a labelled contact sheet, an error table and a log-log
 //! convergence plot.
 
+use crate::metrics;
 use crate::planegen::Board;
 use crate::text::draw_text;
 use anyhow::Result;
@@ -81,72 +82,20 @@ pub fn run(cfg: &DemoConfig, progress: &dyn Fn(&str)) -> Result<DemoResult> {
     };
     progress(&format!("reference: sobol, {} spp", cfg.reference_spp));
     let reference = shoot(SamplerKind::Sobol, cfg.reference_spp);
+    let reference_image = reference.to_image();
     let mut tiles = Vec::new();
     for &kind in &cfg.samplers {
         for &spp in &cfg.spps {
             let sampler = Sampler::new(kind, spp, cfg.seed).0;
             progress(&format!("{kind}, {} spp", sampler.spp));
             let film = shoot(kind, spp);
-            let rmse = rmse(&film, &reference);
-            let ssim = mean_ssim(&film, &reference);
+            let image = film.to_image();
+            let rmse = metrics::rmse(&image, &reference_image);
+            let ssim = metrics::mean_ssim(&image, &reference_image);
             tiles.push(DemoTile { kind, spp: sampler.spp, film, rmse, ssim });
         }
     }
     Ok(DemoResult { reference, tiles })
-}
-
-/// Root-mean-square difference over all channels, after clamping to [0, 1]
-/// (what the 8-bit image shows).
-pub fn rmse(a: &Film, b: &Film) -> f64 {
-    let sum: f64 = a
-        .pixels
-        .iter()
-        .zip(&b.pixels)
-        .map(|(p, q)| {
-            let d =
-                p.clamp(glam::Vec3A::ZERO, glam::Vec3A::ONE) - q.clamp(glam::Vec3A::ZERO, glam::Vec3A::ONE);
-            d.length_squared() as f64
-        })
-        .sum();
-    (sum / (3 * a.pixels.len()) as f64).sqrt()
-}
-
-fn luminance(f: &Film) -> Vec<f64> {
-    f.pixels
-        .iter()
-        .map(|p| {
-            (0.2126 * p.x.clamp(0.0, 1.0) + 0.7152 * p.y.clamp(0.0, 1.0) + 0.0722 * p.z.clamp(0.0, 1.0))
-                as f64
-        })
-        .collect()
-}
-
-/// Mean SSIM (Wang et al. 2004) of luminance over non-overlapping 8x8
-/// windows, with the usual constants for a [0, 1] range.
-pub fn mean_ssim(a: &Film, b: &Film) -> f64 {
-    let (la, lb) = (luminance(a), luminance(b));
-    let (w, h) = (a.width as usize, a.height as usize);
-    let (c1, c2) = (0.01f64.powi(2), 0.03f64.powi(2));
-    let (mut total, mut n) = (0.0, 0);
-    for by in (0..h.saturating_sub(7)).step_by(8) {
-        for bx in (0..w.saturating_sub(7)).step_by(8) {
-            let idx = |x: usize, y: usize| (by + y) * w + bx + x;
-            let cells: Vec<(f64, f64)> =
-                (0..64).map(|k| (la[idx(k % 8, k / 8)], lb[idx(k % 8, k / 8)])).collect();
-            let ma = cells.iter().map(|c| c.0).sum::<f64>() / 64.0;
-            let mb = cells.iter().map(|c| c.1).sum::<f64>() / 64.0;
-            let va = cells.iter().map(|c| (c.0 - ma).powi(2)).sum::<f64>() / 63.0;
-            let vb = cells.iter().map(|c| (c.1 - mb).powi(2)).sum::<f64>() / 63.0;
-            let cov = cells.iter().map(|c| (c.0 - ma) * (c.1 - mb)).sum::<f64>() / 63.0;
-            total += ((2.0 * ma * mb + c1) * (2.0 * cov + c2)) / ((ma * ma + mb * mb + c1) * (va + vb + c2));
-            n += 1;
-        }
-    }
-    if n == 0 {
-        1.0
-    } else {
-        total / n as f64
-    }
 }
 
 /// The contact sheet: one row per sampler, one column per sample count, the

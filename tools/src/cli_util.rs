@@ -35,8 +35,8 @@ pub fn parse_resolution(s: &str) -> Result<[u32; 2], String> {
     }
 }
 
-/// Write through `f` to `path` (via a temporary file renamed into place, so
-/// a failure leaves no partial file) or to standard output when `None`.
+/// Write through `f` to `path` (atomically: a failure leaves no partial
+/// file) or to standard output when `None`.
 pub fn write_output(path: Option<&Path>, f: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<()> {
     match path {
         None => {
@@ -49,17 +49,7 @@ pub fn write_output(path: Option<&Path>, f: impl FnOnce(&mut dyn Write) -> io::R
                 Err(e) => Err(e).context("writing to standard output"),
             }
         }
-        Some(path) => {
-            let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-            let mut tmp = tempfile::NamedTempFile::new_in(dir)
-                .with_context(|| format!("cannot create a file in {}", dir.display()))?;
-            {
-                let mut w = BufWriter::new(tmp.as_file_mut());
-                f(&mut w).and_then(|_| w.flush()).with_context(|| format!("writing {}", path.display()))?;
-            }
-            tmp.persist(path).with_context(|| format!("cannot write {}", path.display()))?;
-            Ok(())
-        }
+        Some(path) => Ok(nffkit_formats::atomic::write_with(path, f)?),
     }
 }
 

@@ -3,16 +3,18 @@
 //! comparison with its golden PNG.
 //!
 //! The comparison counts pixels that differ by more than 8/255 in some
-//! channel (catches a one-pixel shift of an edge) and the mean absolute
-//! difference (catches a small colour change spread over an object), and
-//! reports the mean SSIM as a perceptual summary. Tolerances are per case.
+//! channel (catches a one-pixel shift of an edge) and takes NVIDIA's FLIP
+//! (see [`crate::metrics`]), whose mean catches a small colour change spread
+//! over an object and whose error map shows a person where images differ.
+//! Tolerances are per case.
 
 use crate::default_scene::default_scene;
 use crate::planegen::Board;
-use crate::render_cli::{prepare_options, settings, Args};
+use crate::render_args::render_config_from;
 use crate::sphereflake::{Floor, Sphereflake};
-use anyhow::{bail, Context, Result};
-use clap::Parser;
+use crate::{input, metrics};
+use anyhow::{Context, Result};
+use nffkit_formats::atomic;
 use nffkit_formats::image_io::{self, RgbImage};
 use nffkit_formats::nff::{self, ParseOptions};
 use nffkit_formats::Scene;
@@ -22,9 +24,11 @@ use nffkit_tracer::render::render;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
-/// Default per-case tolerances.
+/// Default per-case tolerances: the fraction of pixels off by more than
+/// 8/255 (catches an edge moved by a pixel) and the mean FLIP error
+/// (catches a small colour change spread over an object).
 const MAX_BAD: f64 = 0.002;
-const MAX_MEAN: f64 = 0.002;
+const MAX_FLIP: f64 = 0.004;
 /// A channel difference counted as a bad pixel.
 const BAD_DIFF: f64 = 8.0 / 255.0;
 
@@ -44,31 +48,31 @@ pub struct Case {
     /// Golden image name when several cases share one (grid, BVH, none).
     pub golden: Option<String>,
     /// How the scene is made.
-    pub source: SourceSpec,
+    pub source: Source,
     /// `render` arguments.
     #[serde(default)]
     pub render: Vec<String>,
     /// Fraction of pixels allowed to differ by more than 8/255.
     pub max_bad: Option<f64>,
-    /// Allowed mean absolute difference.
-    pub max_mean: Option<f64>,
+    /// Allowed mean FLIP error.
+    pub max_flip: Option<f64>,
 }
 
-/// Where a case's scene comes from.
+/// Where a case's scene comes from: exactly one of these (serde refuses a
+/// source naming none or two).
 #[derive(Debug, Deserialize, Clone)]
-#[serde(deny_unknown_fields)]
-pub struct SourceSpec {
-    /// The built-in default scene.
-    #[serde(default)]
-    pub default: bool,
+#[serde(rename_all = "lowercase", deny_unknown_fields)]
+pub enum Source {
+    /// The built-in default scene (`source = "default"`).
+    Default,
     /// planegen's board.
-    pub planegen: Option<PlanegenSpec>,
+    Planegen(PlanegenSpec),
     /// sphereflake.
-    pub sphereflake: Option<SphereflakeSpec>,
+    Sphereflake(SphereflakeSpec),
     /// A file under `scenes/`.
-    pub file: Option<String>,
+    File(String),
     /// A mesh under `scenes/`, converted by mesh2nff (default options).
-    pub mesh: Option<String>,
+    Mesh(String),
 }
 
 /// planegen options.
@@ -98,9 +102,20 @@ impl Case {
     }
 }
 
-/// The `scenes/` folder of this checkout.
-pub fn scenes_dir() -> PathBuf {
-    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes"))
+/// The `scenes/` folder holding `catalogue.toml`, looked for in `start`
+/// and each folder above it (so `golden` works from anywhere inside a
+/// checkout, and no path of the build machine is compiled in).
+pub fn find_scenes_dir(start: &Path) -> Result<PathBuf> {
+    start
+        .ancestors()
+        .map(|a| if a.file_name().is_some_and(|n| n == "scenes") { a.to_path_buf() } else { a.join("scenes") })
+        .find(|s| s.join("catalogue.toml").is_file())
+        .with_context(|| {
+            format!(
+                "no scenes/catalogue.toml in {} or any folder above it; run inside an nffkit checkout or pass --scenes DIR",
+                start.display()
+            )
+        })
 }
 
 /// Read the catalogue.
@@ -112,49 +127,35 @@ pub fn load_catalogue(scenes: &Path) -> Result<Catalogue> {
 
 /// Make a case's scene with the generators' library code.
 pub fn scene_of(case: &Case, scenes: &Path) -> Result<Scene> {
-    let s = &case.source;
-    let chosen = s.default as u8
-        + s.planegen.is_some() as u8
-        + s.sphereflake.is_some() as u8
-        + s.file.is_some() as u8
-        + s.mesh.is_some() as u8;
-    if chosen != 1 {
-        bail!(
-            "case {}: the source must name exactly one of default, planegen, sphereflake, file, mesh",
-            case.name
-        );
-    }
-    Ok(if s.default {
-        default_scene()
-    } else if let Some(p) = &s.planegen {
-        Board { nx: p.nx, ny: p.ny, ..Default::default() }.scene()
-    } else if let Some(f) = &s.sphereflake {
-        let floor = f.checker.map_or(Floor::Square, |[x, y]| Floor::Checker(x, y));
-        Sphereflake { level: f.level, resolution: [512, 512], floor }.scene()
-    } else if let Some(m) = &s.mesh {
-        let mesh = nffkit_formats::mesh::load(&scenes.join(m))?;
-        let (text, _) = crate::mesh2nff::write(&mesh, &crate::mesh2nff::Options::default(), Vec::new())?;
-        nff::parse(&text, &ParseOptions::default()).map_err(|e| anyhow::anyhow!("{m} converted: {e}"))?.scene
-    } else {
-        let path = scenes.join(s.file.as_ref().expect("one source is set"));
-        let src = std::fs::read(&path).with_context(|| format!("cannot read {}", path.display()))?;
-        nff::parse(&src, &ParseOptions::default())
-            .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
-            .scene
+    Ok(match &case.source {
+        Source::Default => default_scene(),
+        Source::Planegen(p) => Board { nx: p.nx, ny: p.ny, ..Default::default() }.scene(),
+        Source::Sphereflake(f) => {
+            let floor = f.checker.map_or(Floor::Square, |[x, y]| Floor::Checker(x, y));
+            Sphereflake { level: f.level, resolution: [512, 512], floor }.scene()
+        }
+        Source::Mesh(m) => {
+            let mesh = nffkit_formats::mesh::load(&scenes.join(m))?;
+            let (text, _) = crate::mesh2nff::write(&mesh, &crate::mesh2nff::Options::default(), Vec::new())?;
+            nff::parse(&text, &ParseOptions::default())
+                .map_err(|e| anyhow::anyhow!("{m} converted: {e}"))?
+                .scene
+        }
+        Source::File(f) => input::load_scene(&scenes.join(f), &ParseOptions::default(), true)?.scene,
     })
 }
 
 /// Render a case on `threads` threads, as 8-bit RGB.
 pub fn render_case(case: &Case, scenes: &Path, threads: usize) -> Result<RgbImage> {
-    let args = Args::try_parse_from(std::iter::once("render".to_string()).chain(case.render.iter().cloned()))
+    let config = render_config_from(&case.render)
         .with_context(|| format!("case {}: bad render arguments", case.name))?;
     let scene = scene_of(case, scenes)?;
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
     pool.install(|| {
-        let prepared = prepare(&scene, &prepare_options(&args))?;
-        let out = render(&prepared, &settings(&args)?, &|_, _| {});
+        let prepared = prepare(&scene, &config.prepare)?;
+        let out = render(&prepared, &config.settings, &|_, _| {});
         let img = out.film.to_image();
-        let bytes = img.to_rgb8(args.srgb);
+        let bytes = img.to_rgb8(config.srgb);
         Ok(RgbImage {
             width: img.width,
             height: img.height,
@@ -171,30 +172,37 @@ pub fn render_case(case: &Case, scenes: &Path, threads: usize) -> Result<RgbImag
 pub struct Difference {
     /// Fraction of pixels with a channel differing by more than 8/255.
     pub bad: f64,
-    /// Mean absolute difference over all channels.
-    pub mean: f64,
-    /// Mean SSIM of luminance over 8x8 windows.
-    pub ssim: f64,
+    /// Mean FLIP error.
+    pub flip: f64,
 }
 
-/// Compare two images of the same size.
-pub fn compare(a: &RgbImage, b: &RgbImage) -> Difference {
-    let n = a.pixels.len().max(1);
-    let (mut bad, mut sum) = (0usize, 0.0f64);
-    for (p, q) in a.pixels.iter().zip(&b.pixels) {
-        let d = (0..3).map(|i| (p[i] - q[i]).abs() as f64).fold(0.0, f64::max);
-        bad += (d > BAD_DIFF + 1e-6) as usize;
-        sum += (0..3).map(|i| (p[i] - q[i]).abs() as f64).sum::<f64>();
-    }
-    let film = |img: &RgbImage| nffkit_tracer::film::Film {
-        width: img.width,
-        height: img.height,
-        pixels: img.pixels.iter().map(|p| glam::Vec3A::from_array(*p)).collect(),
-    };
-    Difference {
-        bad: bad as f64 / n as f64,
-        mean: sum / (3 * n) as f64,
-        ssim: crate::aademo::mean_ssim(&film(a), &film(b)),
+/// Compare two images of the same size: the bad-pixel fraction and mean
+/// FLIP, and FLIP's error map.
+pub fn compare(actual: &RgbImage, expected: &RgbImage) -> (Difference, RgbImage) {
+    let n = actual.pixels.len().max(1);
+    let bad = actual
+        .pixels
+        .iter()
+        .zip(&expected.pixels)
+        .filter(|(p, q)| (0..3).any(|i| (p[i] - q[i]).abs() as f64 > BAD_DIFF + 1e-6))
+        .count();
+    let f = metrics::flip(expected, actual);
+    (Difference { bad: bad as f64 / n as f64, flip: f.mean }, f.error_map)
+}
+
+impl Difference {
+    /// Why it fails `case`'s tolerances, if it does.
+    pub fn failure(&self, case: &Case) -> Option<String> {
+        let (max_bad, max_flip) = (case.max_bad.unwrap_or(MAX_BAD), case.max_flip.unwrap_or(MAX_FLIP));
+        (self.bad > max_bad || self.flip > max_flip).then(|| {
+            format!(
+                "{:.3}% of pixels differ by more than 8/255 (allowed {:.3}%), mean FLIP {:.5} (allowed {:.5})",
+                self.bad * 100.0,
+                max_bad * 100.0,
+                self.flip,
+                max_flip
+            )
+        })
     }
 }
 
@@ -208,6 +216,8 @@ pub struct Checked {
     pub expected: Option<RgbImage>,
     /// The difference, when sizes match.
     pub diff: Option<Difference>,
+    /// FLIP's error map, when sizes match.
+    pub flip_map: Option<RgbImage>,
     /// Why it failed, if it did.
     pub failure: Option<String>,
 }
@@ -230,9 +240,10 @@ pub fn check_case(case: &Case, scenes: &Path) -> Result<Checked> {
     let actual = render_case(case, scenes, 2)?;
     let golden = scenes.join("golden").join(format!("{}.png", case.golden_name()));
     let expected = if golden.exists() { Some(read_png(&golden)?) } else { None };
-    let (diff, failure) = match &expected {
-        None => (None, Some(format!("no golden image {}", golden.display()))),
+    let (diff, flip_map, failure) = match &expected {
+        None => (None, None, Some(format!("no golden image {}", golden.display()))),
         Some(e) if (e.width, e.height) != (actual.width, actual.height) => (
+            None,
             None,
             Some(format!(
                 "size {}x{} differs from the golden {}x{}",
@@ -240,22 +251,11 @@ pub fn check_case(case: &Case, scenes: &Path) -> Result<Checked> {
             )),
         ),
         Some(e) => {
-            let d = compare(&actual, e);
-            let (max_bad, max_mean) = (case.max_bad.unwrap_or(MAX_BAD), case.max_mean.unwrap_or(MAX_MEAN));
-            let fail = (d.bad > max_bad || d.mean > max_mean).then(|| {
-                format!(
-                    "{:.3}% of pixels differ by more than 8/255 (allowed {:.3}%), mean difference {:.5} (allowed {:.5}), SSIM {:.4}",
-                    d.bad * 100.0,
-                    max_bad * 100.0,
-                    d.mean,
-                    max_mean,
-                    d.ssim
-                )
-            });
-            (Some(d), fail)
+            let (d, map) = compare(&actual, e);
+            (Some(d), Some(map), d.failure(case))
         }
     };
-    Ok(Checked { case: case.clone(), actual, expected, diff, failure })
+    Ok(Checked { case: case.clone(), actual, expected, diff, flip_map, failure })
 }
 
 /// The difference heat map: |a − b| (max over channels, ×4) on the inferno
@@ -270,22 +270,39 @@ pub fn diff_image(a: &RgbImage, b: &RgbImage) -> RgbImage {
     RgbImage { width: a.width, height: a.height, pixels }
 }
 
-/// Write actual, expected and difference images of a failed case into
-/// `dir`; returns their paths.
-pub fn write_failure_images(c: &Checked, dir: &Path) -> Result<[PathBuf; 3]> {
+/// The images written for one case.
+pub struct CaseImages {
+    /// What the renderer made now.
+    pub actual: PathBuf,
+    /// The golden image.
+    pub expected: PathBuf,
+    /// |actual − expected| ×4, inferno scale.
+    pub diff: PathBuf,
+    /// FLIP's per-pixel error, magma scale.
+    pub flip: PathBuf,
+}
+
+/// Write actual, expected, difference and FLIP error images of a case into
+/// `dir` (the last three when a golden of the same size exists).
+pub fn write_failure_images(c: &Checked, dir: &Path) -> Result<CaseImages> {
     std::fs::create_dir_all(dir)?;
     let name = &c.case.name;
-    let paths = [
-        dir.join(format!("{name}.actual.png")),
-        dir.join(format!("{name}.expected.png")),
-        dir.join(format!("{name}.diff.png")),
-    ];
-    image_io::save(&c.actual, &paths[0], false)?;
+    let path = |kind: &str| dir.join(format!("{name}.{kind}.png"));
+    let paths = CaseImages {
+        actual: path("actual"),
+        expected: path("expected"),
+        diff: path("diff"),
+        flip: path("flip"),
+    };
+    image_io::save(&c.actual, &paths.actual, false)?;
     if let Some(e) = &c.expected {
-        image_io::save(e, &paths[1], false)?;
+        image_io::save(e, &paths.expected, false)?;
         if (e.width, e.height) == (c.actual.width, c.actual.height) {
-            image_io::save(&diff_image(&c.actual, e), &paths[2], false)?;
+            image_io::save(&diff_image(&c.actual, e), &paths.diff, false)?;
         }
+    }
+    if let Some(map) = &c.flip_map {
+        image_io::save(map, &paths.flip, false)?;
     }
     Ok(paths)
 }
@@ -295,30 +312,37 @@ pub fn html_report(checked: &[Checked], dir: &Path) -> Result<PathBuf> {
     std::fs::create_dir_all(dir)?;
     let mut rows = String::new();
     for c in checked {
-        let [a, e, d] = write_failure_images(c, dir)?;
+        let images = write_failure_images(c, dir)?;
         let file = |p: &Path| p.file_name().unwrap().to_string_lossy().into_owned();
         let status = match &c.failure {
             None => "<td class=ok>pass</td>".to_string(),
             Some(f) => format!("<td class=bad>FAIL: {f}</td>"),
         };
-        let metrics = c.diff.map_or("-".into(), |d| {
-            format!("bad {:.3}%, mean {:.5}, SSIM {:.4}", d.bad * 100.0, d.mean, d.ssim)
-        });
+        let figures =
+            c.diff.map_or("-".into(), |d| format!("bad {:.3}%, mean FLIP {:.5}", d.bad * 100.0, d.flip));
+        let img = |p: &Path| {
+            if p.exists() {
+                format!("<td><img src=\"{}\"></td>", file(p))
+            } else {
+                "<td>-</td>".into()
+            }
+        };
         rows += &format!(
-            "<tr><td>{}</td>{status}<td>{metrics}</td><td><img src=\"{}\"></td><td><img src=\"{}\"></td><td><img src=\"{}\"></td></tr>\n",
+            "<tr><td>{}</td>{status}<td>{figures}</td>{}{}{}{}</tr>\n",
             c.case.name,
-            file(&e),
-            file(&a),
-            file(&d)
+            img(&images.expected),
+            img(&images.actual),
+            img(&images.diff),
+            img(&images.flip)
         );
     }
     let html = format!(
         "<!doctype html><meta charset=utf-8><title>nffkit golden images</title>\
          <style>body{{font-family:sans-serif}}td{{padding:4px;vertical-align:top}}img{{image-rendering:pixelated;width:192px}}\
          .ok{{color:green}}.bad{{color:#b00}}</style>\
-         <h1>Golden images</h1><table><tr><th>case</th><th>status</th><th>metrics</th><th>expected</th><th>actual</th><th>difference (x4)</th></tr>\n{rows}</table>\n"
+         <h1>Golden images</h1><table><tr><th>case</th><th>status</th><th>metrics</th><th>expected</th><th>actual</th><th>difference (x4)</th><th>FLIP error</th></tr>\n{rows}</table>\n"
     );
     let path = dir.join("index.html");
-    image_io::write_atomically(&path, html.as_bytes())?;
+    atomic::write_bytes(&path, html.as_bytes())?;
     Ok(path)
 }

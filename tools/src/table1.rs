@@ -5,8 +5,8 @@
 //! table says so.
 
 use crate::sphereflake::{Floor, Sphereflake};
-use anyhow::{Context, Result};
-use nffkit_formats::nff::{self, ParseOptions};
+use anyhow::Result;
+use nffkit_formats::nff::ParseOptions;
 use nffkit_formats::Scene;
 use nffkit_tracer::accel::{AccelKind, AccelOptions};
 use nffkit_tracer::prepare::{prepare, PrepareOptions};
@@ -59,13 +59,7 @@ pub struct Timing {
 pub fn load(case: &Case, spd_dir: &Path) -> Result<Scene> {
     Ok(match case.source {
         Source::Balls(level) => Sphereflake { level, resolution: [512, 512], floor: Floor::Square }.scene(),
-        Source::File(f) => {
-            let path = spd_dir.join(f);
-            let src = std::fs::read(&path).with_context(|| format!("cannot read {}", path.display()))?;
-            nff::parse(&src, &ParseOptions::default())
-                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
-                .scene
-        }
+        Source::File(f) => crate::input::load_scene(&spd_dir.join(f), &ParseOptions::default(), true)?.scene,
     })
 }
 

@@ -5,10 +5,12 @@
 //! image identical for any thread count.
 
 use glam::Vec2;
-use std::fmt;
+use strum::{Display, IntoStaticStr, VariantArray};
 
-/// The filters.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// The filters; `FilterKind::ALL` lists them, the names are the
+/// command line's.
+#[derive(Debug, Clone, Copy, PartialEq, VariantArray, IntoStaticStr, Display)]
+#[strum(serialize_all = "kebab-case")]
 pub enum FilterKind {
     /// The seed's plain average over the pixel (radius 1/2).
     Box,
@@ -21,23 +23,12 @@ pub enum FilterKind {
 }
 
 impl FilterKind {
-    /// Every filter.
-    pub const ALL: [FilterKind; 4] =
-        [FilterKind::Box, FilterKind::Tent, FilterKind::Gaussian, FilterKind::Mitchell];
+    /// Every filter (derived by strum).
+    pub const ALL: &'static [FilterKind] = <FilterKind as VariantArray>::VARIANTS;
 
     /// Command-line name.
     pub fn name(self) -> &'static str {
-        match self {
-            FilterKind::Box => "box",
-            FilterKind::Tent => "tent",
-            FilterKind::Gaussian => "gaussian",
-            FilterKind::Mitchell => "mitchell",
-        }
-    }
-
-    /// Parse a command-line name.
-    pub fn from_name(s: &str) -> Option<FilterKind> {
-        FilterKind::ALL.into_iter().find(|k| k.name() == s)
+        self.into()
     }
 
     /// Support radius in pixels.
@@ -78,12 +69,6 @@ impl FilterKind {
                 }
             }
         }
-    }
-}
-
-impl fmt::Display for FilterKind {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
     }
 }
 
@@ -144,7 +129,7 @@ mod tests {
 
     #[test]
     fn offsets_stay_within_the_radius_and_follow_the_profile() {
-        for kind in FilterKind::ALL {
+        for &kind in FilterKind::ALL {
             let f = Filter::new(kind);
             let mut mean_abs = 0.0;
             for i in 0..1000 {

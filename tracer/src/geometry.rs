@@ -8,6 +8,7 @@
 use crate::aabb::Aabb;
 use crate::math::RayQuery;
 use glam::Vec3A;
+use strum::{EnumCount, IntoStaticStr, VariantArray};
 
 /// Which side of a surface may be hit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -52,15 +53,18 @@ pub struct Cone {
     pub slope: f32,
 }
 
-/// The kinds of primitive, for statistics.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// The kinds of primitive, for statistics. Counters are arrays of
+/// `Kind::COUNT` indexed by kind (see [`crate::stats::PerKind`]), so a new
+/// kind is counted and printed without touching the statistics code.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, EnumCount, VariantArray, IntoStaticStr)]
+#[strum(serialize_all = "kebab-case")]
 pub enum Kind {
     /// A sphere.
-    Sphere = 0,
+    Sphere,
     /// A triangle.
-    Triangle = 1,
+    Triangle,
     /// A cone or cylinder.
-    Cone = 2,
+    Cone,
 }
 
 /// Per-primitive data the hit tests do not need: material, culling, normals.

@@ -10,9 +10,11 @@ use crate::prepare::RenderScene;
 use crate::sampling::{concentric_disk, Sampler};
 use crate::stats::Counters;
 use glam::{Vec2, Vec3A};
+use strum::{Display, IntoStaticStr, VariantArray};
 
 /// Shape of the area that `--light-size` gives each point light.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, VariantArray, IntoStaticStr, Display)]
+#[strum(serialize_all = "kebab-case")]
 pub enum LightShape {
     /// A square of side `size`, facing the shaded point.
     #[default]

@@ -13,6 +13,8 @@
 pub mod aabb;
 pub mod accel;
 pub mod camera;
+#[cfg(feature = "clap")]
+mod cli;
 pub mod film;
 pub mod filter;
 pub mod geometry;

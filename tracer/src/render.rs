@@ -3,6 +3,7 @@
 //! and tile order. Counters are per tile and summed afterwards.
 
 use crate::accel::Intersector;
+use crate::camera::Camera;
 use crate::film::Film;
 use crate::filter::{Filter, FilterKind};
 use crate::integrator::{LightShape, SampleId, ShadeSettings, ThreadState, Whitted};
@@ -61,6 +62,26 @@ impl Default for RenderSettings {
     }
 }
 
+impl RenderSettings {
+    /// Whether each pixel takes the one classic NFF eye ray through its
+    /// centre: one sample, no pattern asked for, a pinhole camera.
+    pub fn pixel_centre_only(&self, camera: &Camera) -> bool {
+        self.sampler.spp == 1 && self.centre_single_sample && camera.aperture == 0.0
+    }
+
+    /// How the eye rays are placed, for reports: "1 ray through each pixel
+    /// centre", "16 spp multi-jittered, filter box", or the SPD procedure.
+    pub fn describe_sampling(&self, camera: &Camera) -> String {
+        if self.spd_corners {
+            "SPD test procedure (pixel corners)".into()
+        } else if self.pixel_centre_only(camera) {
+            "1 ray through each pixel centre".into()
+        } else {
+            format!("{} spp {}, filter {}", self.sampler.spp, self.sampler.kind, self.filter)
+        }
+    }
+}
+
 /// What a render produced.
 #[derive(Debug, Clone)]
 pub struct RenderOutput {
@@ -110,11 +131,12 @@ fn render_with<I: Intersector>(
     let out = if settings.spd_corners {
         // (w+1) x (h+1) corner rays, each pixel the mean of its four corners.
         let grid = Grid2 { width: w + 1, height: h + 1 };
-        let (corners, cost, counters) = run_tiles(&grid, accel, scene, progress, |x, y, th| {
-            let (ray, t_min) = scene.camera.ray(x as f32, y as f32, Vec2::ZERO);
-            th.counters.eye += 1;
-            shader.li(ray, t_min, 1, 1.0, SampleId { px: x, py: y, index: 0 }, th)
-        });
+        let (corners, cost, counters) =
+            run_tiles(&grid, accel, scene, settings.cost, progress, |x, y, th| {
+                let (ray, t_min) = scene.camera.ray(x as f32, y as f32, Vec2::ZERO);
+                th.counters.eye += 1;
+                shader.li(ray, t_min, 1, 1.0, SampleId { px: x, py: y, index: 0 }, th)
+            });
         let mut film = Film::new(w, h);
         for y in 0..h {
             for x in 0..w {
@@ -128,7 +150,7 @@ fn render_with<I: Intersector>(
     } else {
         let grid = Grid2 { width: w, height: h };
         let stride = settings.row_stride.max(1);
-        let (pixels, cost, counters) = run_tiles(&grid, accel, scene, progress, |x, y, th| {
+        let (pixels, cost, counters) = run_tiles(&grid, accel, scene, settings.cost, progress, |x, y, th| {
             if y % stride != 0 {
                 return Vec3A::ZERO;
             }
@@ -136,11 +158,7 @@ fn render_with<I: Intersector>(
         });
         RenderOutput { film: Film { width: w, height: h, pixels }, cost, counters, seconds: 0.0 }
     };
-    RenderOutput {
-        seconds: t0.elapsed().as_secs_f64(),
-        cost: if settings.cost { out.cost } else { None },
-        ..out
-    }
+    RenderOutput { seconds: t0.elapsed().as_secs_f64(), ..out }
 }
 
 /// One pixel: its samples through the filter, weighted by the filter's sign.
@@ -155,7 +173,7 @@ fn pixel<I: Intersector>(
 ) -> Vec3A {
     let camera = &shader.scene.camera;
     let sampler = &settings.sampler;
-    if sampler.spp == 1 && settings.centre_single_sample && camera.aperture == 0.0 {
+    if settings.pixel_centre_only(camera) {
         let (ray, t_min) = camera.ray(px as f32 + 0.5, py as f32 + 0.5, Vec2::ZERO);
         th.counters.eye += 1;
         return shader.li(ray, t_min, 1, 1.0, SampleId { px, py, index: 0 }, th);
@@ -178,11 +196,13 @@ fn pixel<I: Intersector>(
 
 type TileResult = (u32, Vec<Vec3A>, Vec<u64>, Counters);
 
-/// Evaluate `f` at every point of `grid`, tile by tile on all cores.
+/// Evaluate `f` at every point of `grid`, tile by tile on all cores; with
+/// `want_cost`, also the traversal work each point took.
 fn run_tiles<I: Intersector>(
     grid: &Grid2,
     accel: &I,
     scene: &RenderScene,
+    want_cost: bool,
     progress: Progress,
     f: impl Fn(u32, u32, &mut ThreadState<I::Scratch>) -> Vec3A + Sync,
 ) -> (Vec<Vec3A>, Option<Vec<u64>>, Counters) {
@@ -198,12 +218,16 @@ fn run_tiles<I: Intersector>(
                 let (tx, ty) = (tile % tiles_x * TILE, tile / tiles_x * TILE);
                 let (x1, y1) = ((tx + TILE).min(grid.width), (ty + TILE).min(grid.height));
                 let mut colors = Vec::with_capacity(((x1 - tx) * (y1 - ty)) as usize);
-                let mut costs = Vec::with_capacity(colors.capacity());
+                let mut costs = Vec::with_capacity(if want_cost { colors.capacity() } else { 0 });
                 for y in ty..y1 {
                     for x in tx..x1 {
-                        let work = th.counters.work();
-                        colors.push(f(x, y, th));
-                        costs.push(th.counters.work() - work);
+                        if want_cost {
+                            let work = th.counters.work();
+                            colors.push(f(x, y, th));
+                            costs.push(th.counters.work() - work);
+                        } else {
+                            colors.push(f(x, y, th));
+                        }
                     }
                 }
                 // Each tile takes its thread's counters, leaving them zeroed.
@@ -215,18 +239,20 @@ fn run_tiles<I: Intersector>(
         )
         .collect();
     let mut pixels = vec![Vec3A::ZERO; (grid.width * grid.height) as usize];
-    let mut cost = vec![0u64; pixels.len()];
+    let mut cost = if want_cost { vec![0u64; pixels.len()] } else { Vec::new() };
     let mut counters = Counters::default();
     for (tile, colors, costs, c) in results {
         let (tx, ty) = (tile % tiles_x * TILE, tile / tiles_x * TILE);
         let x1 = (tx + TILE).min(grid.width);
         let tw = (x1 - tx) as usize;
-        for (i, (col, cst)) in colors.into_iter().zip(costs).enumerate() {
-            let (x, y) = (tx as usize + i % tw, ty as usize + i / tw);
-            pixels[y * grid.width as usize + x] = col;
-            cost[y * grid.width as usize + x] = cst;
+        let at = |i: usize| (ty as usize + i / tw) * grid.width as usize + tx as usize + i % tw;
+        for (i, col) in colors.into_iter().enumerate() {
+            pixels[at(i)] = col;
+        }
+        for (i, cst) in costs.into_iter().enumerate() {
+            cost[at(i)] = cst;
         }
         counters += c;
     }
-    (pixels, Some(cost), counters)
+    (pixels, want_cost.then_some(cost), counters)
 }

@@ -13,10 +13,13 @@
 //! [`PixelSamples::next_sample`] walks a set in order.
 
 use glam::Vec2;
-use std::fmt;
+use strum::{Display, IntoStaticStr, VariantArray};
 
-/// The sampling patterns.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+/// The sampling patterns. `SamplerKind::ALL` lists every one (derived,
+/// so a new pattern cannot be left out of demos); the names are the
+/// command line's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, VariantArray, IntoStaticStr, Display)]
+#[strum(serialize_all = "kebab-case")]
 pub enum SamplerKind {
     /// Independent uniform random points.
     Random,
@@ -33,6 +36,7 @@ pub enum SamplerKind {
     /// Correlated multi-jittered (Kensler 2013): one shuffle shared by all
     /// columns and rows, computed on the fly with no stored table (needs a
     /// square count).
+    #[strum(serialize = "cmj")]
     CorrelatedMultiJittered,
     /// Hammersley points, randomised per pixel by a Cranley-Patterson shift
     /// in x and a random digit scramble in y.
@@ -44,35 +48,13 @@ pub enum SamplerKind {
 }
 
 impl SamplerKind {
-    /// Every kind, in the order demos list them.
-    pub const ALL: [SamplerKind; 8] = [
-        SamplerKind::Random,
-        SamplerKind::Regular,
-        SamplerKind::Jittered,
-        SamplerKind::NRooks,
-        SamplerKind::MultiJittered,
-        SamplerKind::CorrelatedMultiJittered,
-        SamplerKind::Hammersley,
-        SamplerKind::Sobol,
-    ];
+    /// Every pattern, in the order demos list them (derived by strum, so a
+    /// new variant is listed without anyone remembering to).
+    pub const ALL: &'static [SamplerKind] = <SamplerKind as VariantArray>::VARIANTS;
 
     /// The command-line name.
     pub fn name(self) -> &'static str {
-        match self {
-            SamplerKind::Random => "random",
-            SamplerKind::Regular => "regular",
-            SamplerKind::Jittered => "jittered",
-            SamplerKind::NRooks => "n-rooks",
-            SamplerKind::MultiJittered => "multi-jittered",
-            SamplerKind::CorrelatedMultiJittered => "cmj",
-            SamplerKind::Hammersley => "hammersley",
-            SamplerKind::Sobol => "sobol",
-        }
-    }
-
-    /// Parse a command-line name.
-    pub fn from_name(s: &str) -> Option<SamplerKind> {
-        SamplerKind::ALL.into_iter().find(|k| k.name() == s)
+        self.into()
     }
 
     /// Whether the pattern is built on an n×n grid.
@@ -84,12 +66,6 @@ impl SamplerKind {
                 | SamplerKind::MultiJittered
                 | SamplerKind::CorrelatedMultiJittered
         )
-    }
-}
-
-impl fmt::Display for SamplerKind {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
     }
 }
 
@@ -387,7 +363,7 @@ mod tests {
 
     #[test]
     fn every_pattern_stays_in_the_unit_square() {
-        for kind in SamplerKind::ALL {
+        for &kind in SamplerKind::ALL {
             for spp in [1, 4, 16, 64, 100] {
                 for px in 0..20 {
                     for p in set(kind, spp, px) {
@@ -446,7 +422,7 @@ mod tests {
 
     #[test]
     fn samples_are_pure_functions() {
-        for kind in SamplerKind::ALL {
+        for &kind in SamplerKind::ALL {
             let (s, _) = Sampler::new(kind, 16, 3);
             for i in (0..16).rev() {
                 assert_eq!(s.sample(10, 20, i, 2), s.sample(10, 20, i, 2));
@@ -460,7 +436,7 @@ mod tests {
 
     #[test]
     fn pixels_and_dimensions_are_decorrelated() {
-        for kind in SamplerKind::ALL {
+        for &kind in SamplerKind::ALL {
             let a = set(kind, 16, 1);
             let b = set(kind, 16, 2);
             let (s, _) = Sampler::new(kind, 16, 7);

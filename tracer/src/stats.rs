@@ -2,7 +2,48 @@
 //! [`Counters`]; they are summed after the render (never shared while
 //! rendering), so counting costs no synchronisation and is deterministic.
 
-use std::ops::AddAssign;
+use crate::geometry::Kind;
+use std::ops::{AddAssign, Index, IndexMut};
+use strum::{EnumCount, VariantArray};
+
+/// One count per primitive [`Kind`], indexed by the kind itself.
+#[derive(Debug, Default, Clone, Copy, PartialEq, Eq)]
+pub struct PerKind([u64; Kind::COUNT]);
+
+impl PerKind {
+    /// Each kind with its count, in declaration order.
+    pub fn iter(&self) -> impl Iterator<Item = (Kind, u64)> + '_ {
+        Kind::VARIANTS.iter().map(|&k| (k, self[k]))
+    }
+
+    /// The sum over all kinds.
+    pub fn total(&self) -> u64 {
+        self.0.iter().sum()
+    }
+}
+
+impl Index<Kind> for PerKind {
+    type Output = u64;
+    #[inline(always)]
+    fn index(&self, k: Kind) -> &u64 {
+        &self.0[k as usize]
+    }
+}
+
+impl IndexMut<Kind> for PerKind {
+    #[inline(always)]
+    fn index_mut(&mut self, k: Kind) -> &mut u64 {
+        &mut self.0[k as usize]
+    }
+}
+
+impl AddAssign for PerKind {
+    fn add_assign(&mut self, o: PerKind) {
+        for (a, b) in self.0.iter_mut().zip(o.0) {
+            *a += b;
+        }
+    }
+}
 
 /// Rays by kind and the work their traversal did.
 #[derive(Debug, Default, Clone, Copy, PartialEq, Eq)]
@@ -16,8 +57,8 @@ pub struct Counters {
     pub refracted: u64,
     /// Shadow rays.
     pub shadow: u64,
-    /// Primitive intersection tests by kind: spheres, triangles, cones.
-    pub tests: [u64; 3],
+    /// Primitive intersection tests by kind.
+    pub tests: PerKind,
     /// Accelerator nodes (BVH) or cells (grid) visited.
     pub visits: u64,
     /// Primitive tests skipped because the mailbox had seen the primitive.
@@ -32,7 +73,7 @@ impl Counters {
 
     /// All primitive tests.
     pub fn total_tests(&self) -> u64 {
-        self.tests.iter().sum()
+        self.tests.total()
     }
 
     /// A measure of traversal work for the per-pixel cost image.
@@ -47,10 +88,27 @@ impl AddAssign for Counters {
         self.reflected += o.reflected;
         self.refracted += o.refracted;
         self.shadow += o.shadow;
-        for i in 0..3 {
-            self.tests[i] += o.tests[i];
-        }
+        self.tests += o.tests;
         self.visits += o.visits;
         self.mailbox_hits += o.mailbox_hits;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_kind_has_its_own_counter() {
+        // Kinds index the array by discriminant: they must be 0..COUNT in
+        // declaration order, each counted and listed once.
+        let mut c = PerKind::default();
+        for (i, &k) in Kind::VARIANTS.iter().enumerate() {
+            assert_eq!(k as usize, i);
+            c[k] += i as u64 + 1;
+        }
+        let listed: Vec<u64> = c.iter().map(|(_, n)| n).collect();
+        assert_eq!(listed, (1..=Kind::COUNT as u64).collect::<Vec<_>>());
+        assert_eq!(c.total(), (Kind::COUNT * (Kind::COUNT + 1) / 2) as u64);
     }
 }

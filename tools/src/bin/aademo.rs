@@ -2,7 +2,7 @@
 
 use anyhow::{Context, Result};
 use clap::Parser;
-use nffkit_formats::image_io;
+use nffkit_formats::{atomic, image_io};
 use nffkit_tools::aademo::{contact_sheet, convergence_svg, run, table, DemoConfig};
 use nffkit_tools::cli_util;
 use std::path::PathBuf;
@@ -48,8 +48,8 @@ fn main_inner(a: &Args) -> Result<()> {
     let sheet = a.out.join("contact-sheet.png");
     image_io::save(&contact_sheet(&result, &cfg), &sheet, false)?;
     let t = table(&result, &cfg);
-    image_io::write_atomically(&a.out.join("errors.md"), t.as_bytes())?;
-    image_io::write_atomically(&a.out.join("convergence.svg"), convergence_svg(&result, &cfg).as_bytes())?;
+    atomic::write_bytes(&a.out.join("errors.md"), t.as_bytes())?;
+    atomic::write_bytes(&a.out.join("convergence.svg"), convergence_svg(&result, &cfg).as_bytes())?;
     print!("{t}");
     eprintln!("wrote {}, errors.md and convergence.svg", sheet.display());
     Ok(())

@@ -5,7 +5,6 @@
 use anyhow::{Context, Result};
 use clap::Parser;
 use nffkit_formats::nff::ParseOptions;
-use nffkit_tools::render_cli::AccelArg;
 use nffkit_tools::{cli_util, input};
 use nffkit_tracer::accel::{AccelKind, AccelOptions, Intersector};
 use nffkit_tracer::math::RayQuery;
@@ -27,8 +26,8 @@ struct Args {
     #[arg(long, default_value_t = 512)]
     size: u32,
     /// Accelerator.
-    #[arg(long, value_enum, default_value_t = AccelArg::Bvh)]
-    accel: AccelArg,
+    #[arg(long, value_enum, default_value_t = AccelKind::Bvh)]
+    accel: AccelKind,
     /// Repetitions; the best is reported.
     #[arg(long, default_value_t = 5)]
     runs: u32,
@@ -52,15 +51,10 @@ fn shoot<I: Intersector>(scene: &RenderScene, accel: &I) -> (u64, u64) {
 
 fn run(a: &Args) -> Result<()> {
     let scene = input::load_scene(&a.scene, &ParseOptions::default(), true)?.scene;
-    let kind = match a.accel {
-        AccelArg::None => AccelKind::None,
-        AccelArg::Grid => AccelKind::Grid,
-        AccelArg::Bvh => AccelKind::Bvh,
-    };
     let opts = PrepareOptions {
         width: Some(a.size),
         height: Some(a.size),
-        accel: AccelOptions { kind, ..Default::default() },
+        accel: AccelOptions { kind: a.accel, ..Default::default() },
         ..Default::default()
     };
     let prepared = prepare(&scene, &opts).context("preparing the scene")?;

@@ -1,9 +1,10 @@
 //! `render`: render or validate NFF scenes. See `render --help`.
 
 use clap::Parser;
-use nffkit_tools::render_cli::{main_with, Args};
+use nffkit_tools::render_args::RenderArgs;
+use nffkit_tools::render_cli::main_with;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    main_with(Args::parse())
+    main_with(RenderArgs::parse())
 }

@@ -1,8 +1,9 @@
 //! `table1`: reproduce the seed's Table 1. See `table1 --help`.
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::Parser;
 use nffkit_tools::cli_util;
+use nffkit_tools::golden::find_scenes_dir;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -10,11 +11,12 @@ use std::process::ExitCode;
 /// 5, 7) at 512x512, depth 6, 1 spp, with no acceleration, the uniform grid
 /// and the BVH; prints a markdown table with speedups and Mrays/s.
 #[derive(Parser, Debug)]
-#[command(version, about, long_about)]
+#[command(name = "table1", version, about, long_about)]
 struct Args {
-    /// Folder with the SPD mount files (mount_s1/s5/s7.nff).
-    #[arg(long, default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/spd"))]
-    spd_dir: PathBuf,
+    /// Folder with the SPD mount files (mount_s1/s5/s7.nff). Default:
+    /// `scenes/spd` of the current directory or the nearest folder above it.
+    #[arg(long, value_name = "DIR")]
+    spd_dir: Option<PathBuf>,
     /// Image size.
     #[arg(long, default_value_t = 512)]
     size: u32,
@@ -25,7 +27,13 @@ struct Args {
 }
 
 fn run(a: &Args) -> Result<()> {
-    let t = nffkit_tools::table1::table(&a.spd_dir, a.size, a.cap, &|what| eprintln!("timing {what}"))?;
+    let spd_dir = match &a.spd_dir {
+        Some(dir) => dir.clone(),
+        None => {
+            find_scenes_dir(&std::env::current_dir().context("reading the current directory")?)?.join("spd")
+        }
+    };
+    let t = nffkit_tools::table1::table(&spd_dir, a.size, a.cap, &|what| eprintln!("timing {what}"))?;
     print!("{t}");
     Ok(())
 }

@@ -15,6 +15,7 @@ pub use grid::{Grid, Mailbox};
 use crate::geometry::{Geometry, Hit};
 use crate::math::RayQuery;
 use crate::stats::Counters;
+use strum::{Display, IntoStaticStr, VariantArray};
 
 /// Nearest-hit and any-hit queries over a [`Geometry`].
 pub trait Intersector: Sync {
@@ -48,7 +49,8 @@ pub trait Intersector: Sync {
 }
 
 /// The accelerator kinds a user chooses from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, VariantArray, IntoStaticStr, Display)]
+#[strum(serialize_all = "kebab-case")]
 pub enum AccelKind {
     /// Test every primitive.
     None,
@@ -115,7 +117,9 @@ impl Accel {
     /// Size and build time.
     pub fn info(&self) -> AccelInfo {
         match self {
-            Accel::None(_) => AccelInfo { summary: "none (brute force)", unit: "nodes", ..Default::default() },
+            Accel::None(_) => {
+                AccelInfo { summary: "none (brute force)", unit: "nodes", ..Default::default() }
+            }
             Accel::Grid(g) => g.info(),
             Accel::Bvh(b) => b.info(),
         }
@@ -151,7 +155,7 @@ pub(crate) fn test_prim(
         Some(b) => f32::from_bits(b.t.to_bits() + 1),
         None => t_max,
     };
-    c.tests[geom.locate(id).0 as usize] += 1;
+    c.tests[geom.locate(id).0] += 1;
     if let Some(h) = geom.intersect(id, q, limit) {
         if h.beats(best) {
             *best = Some(h);
@@ -162,6 +166,6 @@ pub(crate) fn test_prim(
 /// Whether primitive `id` occludes the shadow ray, counting the test.
 #[inline(always)]
 pub(crate) fn test_shadow(geom: &Geometry, id: u32, q: &RayQuery, t_max: f32, c: &mut Counters) -> bool {
-    c.tests[geom.locate(id).0 as usize] += 1;
+    c.tests[geom.locate(id).0] += 1;
     geom.intersect(id, q, t_max).is_some()
 }

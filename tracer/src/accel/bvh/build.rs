@@ -266,4 +266,3 @@ fn partition<T>(v: &mut [T], pred: impl Fn(&T) -> bool) -> usize {
     }
     i
 }
-

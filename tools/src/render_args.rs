@@ -1,0 +1,337 @@
+//! What the user typed to `render`, and the one step that turns it into
+//! validated, typed settings (ripgrep's low and high arguments).
+//!
+//! [`RenderArgs`] is the clap schema: flag names, help texts and value
+//! parsers live here and nowhere else. [`RenderArgs::command`] checks every
+//! value and combination once and yields a [`Command`] holding the tracer's
+//! own types ([`PrepareOptions`], [`RenderSettings`]); nothing downstream
+//! validates again. Library errors describe the problem; the messages here
+//! add the flag that caused it.
+
+use anyhow::{bail, Result};
+use clap::Parser;
+use nffkit_formats::image_io::ImageKind;
+use nffkit_formats::nff::ParseOptions;
+use nffkit_tracer::accel::{AccelKind, AccelOptions};
+use nffkit_tracer::filter::FilterKind;
+use nffkit_tracer::integrator::LightShape;
+use nffkit_tracer::prepare::PrepareOptions;
+use nffkit_tracer::render::RenderSettings;
+use nffkit_tracer::sampling::{Sampler, SamplerKind};
+use std::path::PathBuf;
+
+/// Render NFF scenes with a Whitted ray tracer, or validate them (--check).
+///
+/// With no FILE, renders the built-in default scene (a level-3 sphereflake
+/// over a checkerboard). The camera's `angle` is the spec's: measured between
+/// the centres of the outer pixel rows/columns of the smaller image side.
+#[derive(Parser, Debug, Clone)]
+#[command(name = "render", version, about, long_about, allow_negative_numbers = true)]
+pub struct RenderArgs {
+    /// Scene file(s); `-` reads standard input. Rendering takes one file;
+    /// --check takes any number.
+    pub files: Vec<PathBuf>,
+
+    /// Output image; the extension picks the format: .png (8-bit, default),
+    /// .ppm, .exr or .hdr (linear floating point). Default: the scene's
+    /// file name with .png, in the current directory.
+    #[arg(short, long, value_name = "FILE")]
+    pub output: Option<PathBuf>,
+
+    /// Image width in pixels (overrides the file's; keeps the field of view).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub width: Option<u32>,
+    /// Image height in pixels (overrides the file's).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub height: Option<u32>,
+    /// Recursion limit, counting the eye ray as depth 1.
+    #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub depth: u32,
+    /// Worker threads (default: all cores). The image does not depend on it.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+    /// Print nothing but errors.
+    #[arg(short, long)]
+    pub quiet: bool,
+    /// Print ray and traversal statistics to standard output.
+    #[arg(long)]
+    pub stats: bool,
+    /// SPD test procedure: one eye ray through each pixel corner ((w+1)x(h+1)
+    /// rays, each pixel the mean of its four corners), depth 5, with
+    /// statistics, so counts compare with those the SPD publishes.
+    #[arg(long)]
+    pub spd_stats: bool,
+    /// Adaptive depth control: skip reflected and refracted rays whose
+    /// weight (product of Ks and T along the path) is below this; 0 (the
+    /// default) traces every ray, as classic NFF renderers do. POV-Ray's
+    /// default is 1/255 = 0.0039.
+    #[arg(long, default_value_t = 0.0, value_parser = unit_interval)]
+    pub min_weight: f32,
+    /// Seed of every random pattern.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u32,
+    /// Apply the sRGB transfer curve when writing 8-bit images (off by
+    /// default, so images match classic NFF renderers).
+    #[arg(long)]
+    pub srgb: bool,
+
+    /// Validate the files: print every diagnostic and a summary per file.
+    #[arg(long)]
+    pub check: bool,
+    /// Accept a file without a `v` block (a fragment to append to a scene).
+    #[arg(long)]
+    pub fragment: bool,
+    /// Unknown entities become warnings and are skipped.
+    #[arg(long)]
+    pub lenient: bool,
+
+    /// The spec's one-sided rule: opaque objects are invisible from behind.
+    /// Default is two-sided shading; transmitters are always two-sided.
+    #[arg(long)]
+    pub one_sided: bool,
+
+    /// Samples per pixel (anti-aliasing).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub spp: u32,
+    /// Sample pattern. With 1 sample per pixel and no --sampler, the pixel
+    /// centre is used (classic NFF); otherwise the default is multi-jittered.
+    #[arg(long, value_enum)]
+    pub sampler: Option<SamplerKind>,
+    /// Reconstruction filter.
+    #[arg(long, value_enum, default_value_t = FilterKind::Box)]
+    pub filter: FilterKind,
+
+    /// Give each point light an area of this size (soft shadows): one light
+    /// sample per light per eye sample.
+    #[arg(long, default_value_t = 0.0, value_parser = non_negative)]
+    pub light_size: f32,
+    /// Shape of the light area: side of a square or diameter of a disc.
+    #[arg(long, value_enum, default_value_t = LightShape::Square)]
+    pub light_shape: LightShape,
+
+    /// Lens radius for depth of field (0: pinhole).
+    #[arg(long, default_value_t = 0.0, value_parser = non_negative)]
+    pub aperture: f32,
+    /// Distance in focus (default: the from-at distance).
+    #[arg(long, value_parser = positive)]
+    pub focus: Option<f32>,
+
+    /// Acceleration structure.
+    #[arg(long, value_enum, default_value_t = AccelKind::Bvh)]
+    pub accel: AccelKind,
+    /// Uniform grid density multiplier M (cells per axis from formula (1)
+    /// of the P3D report); 0 gives one cell.
+    #[arg(long, default_value_t = 2.0, value_parser = non_negative)]
+    pub grid_m: f32,
+    /// Turn the grid's mailboxes off (to measure what they save).
+    #[arg(long)]
+    pub no_mailbox: bool,
+    /// Also write a heat map of the traversal work per pixel (primitive
+    /// tests plus nodes or cells visited) to this PNG, with a colour bar.
+    #[arg(long, value_name = "FILE")]
+    pub aov_cost: Option<PathBuf>,
+}
+
+/// What `render` is asked to do, validated.
+#[derive(Debug, Clone)]
+pub enum Command {
+    /// Validate files and print their diagnostics.
+    Check {
+        /// The files (`-` is standard input).
+        files: Vec<PathBuf>,
+        /// How to parse them.
+        parse: ParseOptions,
+    },
+    /// Render one scene.
+    Render(Box<RenderConfig>),
+}
+
+/// A render, ready to run: every value checked, in the tracer's types.
+#[derive(Debug, Clone)]
+pub struct RenderConfig {
+    /// The scene file (`-` is standard input); `None` is the default scene.
+    pub input: Option<PathBuf>,
+    /// Where the image goes, and its format.
+    pub output: PathBuf,
+    /// The output's format, from its extension.
+    pub output_kind: ImageKind,
+    /// How to parse the scene.
+    pub parse: ParseOptions,
+    /// How to turn the scene into a renderable one.
+    pub prepare: PrepareOptions,
+    /// How to render it.
+    pub settings: RenderSettings,
+    /// Worker threads (0: all cores).
+    pub threads: usize,
+    /// sRGB curve on 8-bit output.
+    pub srgb: bool,
+    /// Where the cost heat map goes, if asked for.
+    pub aov_cost: Option<PathBuf>,
+    /// Print statistics.
+    pub stats: bool,
+    /// Print nothing but errors.
+    pub quiet: bool,
+    /// Adjustments to tell the user about (a sample count rounded up).
+    pub notes: Vec<String>,
+}
+
+impl RenderArgs {
+    /// Validate everything and say what to do.
+    pub fn command(&self) -> Result<Command> {
+        let parse = ParseOptions { lenient: self.lenient, fragment: self.fragment };
+        if self.check {
+            if self.files.is_empty() {
+                bail!("--check needs at least one file");
+            }
+            return Ok(Command::Check { files: self.files.clone(), parse });
+        }
+        Ok(Command::Render(Box::new(self.render_config()?)))
+    }
+
+    /// The render configuration (whatever --check says).
+    pub fn render_config(&self) -> Result<RenderConfig> {
+        if self.files.len() > 1 {
+            bail!("render takes one scene file (got {}); --check takes many", self.files.len());
+        }
+        let output = self.output_path();
+        let output_kind = ImageKind::from_path(&output)?;
+        if let Some(cost) = &self.aov_cost {
+            if ImageKind::from_path(cost)? != ImageKind::Png {
+                bail!("--aov-cost writes a PNG heat map; {} is not a .png", cost.display());
+            }
+        }
+        let kind = self.sampler.unwrap_or(SamplerKind::MultiJittered);
+        let (sampler, note) = Sampler::new(kind, self.spp, self.seed);
+        let settings = RenderSettings {
+            sampler,
+            centre_single_sample: self.sampler.is_none(),
+            filter: self.filter,
+            max_depth: if self.spd_stats { 5 } else { self.depth },
+            light_size: self.light_size,
+            light_shape: self.light_shape,
+            min_weight: if self.spd_stats { 0.0 } else { self.min_weight },
+            spd_corners: self.spd_stats,
+            cost: self.aov_cost.is_some(),
+            row_stride: 1,
+        };
+        let prepare = PrepareOptions {
+            width: self.width,
+            height: self.height,
+            one_sided: self.one_sided,
+            aperture: self.aperture,
+            focus: self.focus,
+            accel: AccelOptions { kind: self.accel, grid_m: self.grid_m, mailbox: !self.no_mailbox },
+        };
+        Ok(RenderConfig {
+            input: self.files.first().cloned(),
+            output,
+            output_kind,
+            parse: ParseOptions { lenient: self.lenient, fragment: self.fragment },
+            prepare,
+            settings,
+            threads: self.threads.unwrap_or(0) as usize,
+            srgb: self.srgb,
+            aov_cost: self.aov_cost.clone(),
+            stats: self.stats || self.spd_stats,
+            quiet: self.quiet,
+            notes: note.into_iter().map(|m| format!("--spp: {m}")).collect(),
+        })
+    }
+
+    fn output_path(&self) -> PathBuf {
+        if let Some(o) = &self.output {
+            return o.clone();
+        }
+        match self.files.first() {
+            Some(f) if f.as_os_str() != "-" => {
+                PathBuf::from(f.file_stem().unwrap_or_default()).with_extension("png")
+            }
+            Some(_) => PathBuf::from("render.png"),
+            None => PathBuf::from("nffkit-default.png"),
+        }
+    }
+}
+
+/// The render configuration for `render` arguments given as strings (the
+/// golden catalogue's `render = [...]`), without the program name.
+pub fn render_config_from<I, S>(args: I) -> Result<RenderConfig>
+where
+    I: IntoIterator<Item = S>,
+    S: Into<std::ffi::OsString> + Clone,
+{
+    let args = RenderArgs::try_parse_from(
+        std::iter::once(std::ffi::OsString::from("render")).chain(args.into_iter().map(Into::into)),
+    )?;
+    args.render_config()
+}
+
+fn number(s: &str) -> Result<f32, String> {
+    match s.trim().parse::<f32>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => Err(format!("`{s}` is not a finite number")),
+    }
+}
+
+fn non_negative(s: &str) -> Result<f32, String> {
+    number(s).and_then(|v| if v >= 0.0 { Ok(v) } else { Err(format!("must not be negative (got {v})")) })
+}
+
+fn positive(s: &str) -> Result<f32, String> {
+    number(s).and_then(|v| if v > 0.0 { Ok(v) } else { Err(format!("must be greater than 0 (got {v})")) })
+}
+
+fn unit_interval(s: &str) -> Result<f32, String> {
+    number(s).and_then(|v| {
+        if (0.0..1.0).contains(&v) {
+            Ok(v)
+        } else {
+            Err(format!("must be in [0, 1) (got {v})"))
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn config(args: &[&str]) -> Result<RenderConfig> {
+        render_config_from(args.iter().copied())
+    }
+
+    #[test]
+    fn values_are_checked_once_with_the_flag_named() {
+        for (args, flag) in [
+            (&["--light-size", "-1"][..], "--light-size"),
+            (&["--grid-m", "nan"], "--grid-m"),
+            (&["--focus", "0"], "--focus"),
+            (&["--min-weight", "1"], "--min-weight"),
+            (&["--width", "0"], "--width"),
+            (&["--sampler", "halton"], "--sampler"),
+        ] {
+            let e = format!("{:#}", config(args).unwrap_err());
+            assert!(e.contains(flag), "{args:?}: {e}");
+        }
+        let e = format!("{:#}", config(&["-o", "x.jpg"]).unwrap_err());
+        assert!(e.contains("x.jpg") && e.contains(".png"), "{e}");
+    }
+
+    #[test]
+    fn library_enums_are_the_command_line_choices() {
+        use clap::ValueEnum;
+        for k in SamplerKind::ALL {
+            let c = config(&["--spp", "4", "--sampler", k.name()]).unwrap();
+            assert_eq!(c.settings.sampler.kind, *k);
+        }
+        assert_eq!(<FilterKind as ValueEnum>::value_variants().len(), FilterKind::ALL.len());
+        let c = config(&["--accel", "grid", "--light-shape", "disk", "--filter", "mitchell"]).unwrap();
+        assert_eq!(c.prepare.accel.kind, AccelKind::Grid);
+        assert_eq!(c.settings.light_shape, LightShape::Disk);
+        assert_eq!(c.settings.filter, FilterKind::Mitchell);
+    }
+
+    #[test]
+    fn spd_stats_fixes_depth_and_weight() {
+        let c = config(&["--spd-stats", "--depth", "9", "--min-weight", "0.1"]).unwrap();
+        assert_eq!((c.settings.max_depth, c.settings.min_weight, c.stats), (5, 0.0, true));
+    }
+}

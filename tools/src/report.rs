@@ -1,0 +1,96 @@
+//! The statistics block that `render --stats` prints: what the scene holds,
+//! how it was sampled, what the accelerator cost, and the rays and tests of
+//! the render, per kind by name.
+
+use nffkit_formats::Scene;
+use nffkit_tracer::prepare::RenderScene;
+use nffkit_tracer::render::{RenderOutput, RenderSettings};
+use std::fmt::Write as _;
+
+/// Wall times measured around the render.
+#[derive(Debug, Clone, Copy)]
+pub struct Times {
+    /// Reading and parsing the scene, seconds.
+    pub parse: f64,
+    /// The whole command so far, seconds.
+    pub total: f64,
+}
+
+fn per(a: u64, b: u64) -> f64 {
+    if b == 0 {
+        0.0
+    } else {
+        a as f64 / b as f64
+    }
+}
+
+/// The statistics block, one fact per line.
+pub fn statistics(
+    name: &str,
+    scene: &Scene,
+    prepared: &RenderScene,
+    settings: &RenderSettings,
+    out: &RenderOutput,
+    times: Times,
+) -> String {
+    let g = &prepared.geometry;
+    let c = &out.counters;
+    let info = prepared.accel.info();
+    let (w, h) = prepared.camera.resolution();
+    let rays = c.rays();
+    let by_kind = |f: &dyn Fn(&str, u64) -> String| {
+        c.tests.iter().map(|(k, n)| f(k.into(), n)).collect::<Vec<_>>().join(", ")
+    };
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "scene        {name}: {} primitives in the file -> {} spheres, {} triangles, {} cones",
+        scene.primitives.len(),
+        g.spheres.len(),
+        g.triangles.len(),
+        g.cones.len()
+    );
+    let _ = writeln!(
+        s,
+        "image        {w}x{h}, {}, depth {}",
+        settings.describe_sampling(&prepared.camera),
+        settings.max_depth
+    );
+    let _ = writeln!(
+        s,
+        "accelerator  {}: {} {}, {:.2} MB, built in {:.1} ms",
+        info.summary,
+        info.nodes,
+        info.unit,
+        info.bytes as f64 / 1e6,
+        info.build_seconds * 1e3
+    );
+    let _ = writeln!(
+        s,
+        "rays         {rays} total: eye {}, reflected {}, refracted {}, shadow {}",
+        c.eye, c.reflected, c.refracted, c.shadow
+    );
+    let _ = writeln!(
+        s,
+        "tests        {} total ({:.2} per ray): {}",
+        c.total_tests(),
+        per(c.total_tests(), rays),
+        by_kind(&|k, n| format!("{k} {n}"))
+    );
+    let _ = writeln!(
+        s,
+        "traversal    {} nodes/cells visited ({:.2} per ray), {} mailbox hits",
+        c.visits,
+        per(c.visits, rays),
+        c.mailbox_hits
+    );
+    let _ = writeln!(
+        s,
+        "time         parse {:.3} s, render {:.3} s ({:.2} Mrays/s), total {:.3} s",
+        times.parse,
+        out.seconds,
+        rays as f64 / out.seconds.max(1e-9) / 1e6,
+        times.total
+    );
+    s
+}
