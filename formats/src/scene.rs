@@ -114,16 +114,6 @@ pub enum Shape {
 }
 
 impl Shape {
-    /// The keyword that introduces this shape in NFF.
-    pub fn keyword(&self) -> &'static str {
-        match self {
-            Shape::Sphere { .. } => "s",
-            Shape::Cone { .. } => "c",
-            Shape::Polygon { .. } => "p",
-            Shape::Patch { .. } => "pp",
-        }
-    }
-
     /// Axis-aligned bounds `(min, max)` of the shape.
     pub fn bounds(&self) -> (DVec3, DVec3) {
         match self {
@@ -159,6 +149,10 @@ pub struct Primitive {
     /// Where it was read from.
     pub line: SourceLine,
 }
+
+/// The sky blue every SPD database uses as its background (`b 0.078 0.361
+/// 0.753`); the generators and mesh2nff use it too.
+pub const SPD_SKY: DVec3 = DVec3::new(0.078, 0.361, 0.753);
 
 /// A whole NFF scene (or a fragment of one, when `view` is `None`).
 ///

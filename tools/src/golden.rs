@@ -346,3 +346,25 @@ pub fn html_report(checked: &[Checked], dir: &Path) -> Result<PathBuf> {
     atomic::write_bytes(&path, html.as_bytes())?;
     Ok(path)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(source: &str) -> Result<Catalogue, toml::de::Error> {
+        toml::from_str(&format!("[[case]]\nname = \"x\"\nsource = {source}\n"))
+    }
+
+    #[test]
+    fn a_source_names_exactly_one_way_to_make_the_scene() {
+        assert!(matches!(parse("\"default\"").unwrap().case[0].source, Source::Default));
+        assert!(matches!(parse("{ file = \"a.nff\" }").unwrap().case[0].source, Source::File(_)));
+        assert!(matches!(
+            parse("{ planegen = { nx = 2, ny = 3 } }").unwrap().case[0].source,
+            Source::Planegen(PlanegenSpec { nx: 2, ny: 3 })
+        ));
+        for bad in ["{ file = \"a.nff\", mesh = \"b.obj\" }", "{}", "{ movie = \"x\" }", "\"file\""] {
+            assert!(parse(bad).is_err(), "accepted {bad}");
+        }
+    }
+}

@@ -155,7 +155,7 @@ pub fn write<W: Write>(mesh: &Mesh, o: &Options, out: W) -> Result<(W, Summary)>
     w.comment("written by nffkit mesh2nff")?;
     if o.view {
         let (view, lights) = framing_view(b, o);
-        w.background(DVec3::new(0.078, 0.361, 0.753))?;
+        w.background(nffkit_formats::SPD_SKY)?;
         w.view(&view)?;
         for l in &lights {
             w.light(l)?;

@@ -135,7 +135,7 @@ impl Board {
         };
         let mut scene = Scene {
             view: Some(view),
-            background: Some(DVec3::new(0.078, 0.361, 0.753)),
+            background: Some(nffkit_formats::SPD_SKY),
             lights: vec![Light {
                 position: c + DVec3::new(0.25 * size, -0.4 * size, 0.8 * size),
                 color: None,

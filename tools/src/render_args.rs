@@ -26,7 +26,7 @@ use std::path::PathBuf;
 /// over a checkerboard). The camera's `angle` is the spec's: measured between
 /// the centres of the outer pixel rows/columns of the smaller image side.
 #[derive(Parser, Debug, Clone)]
-#[command(name = "render", version, about, long_about, allow_negative_numbers = true)]
+#[command(name = "render", version, allow_negative_numbers = true)]
 pub struct RenderArgs {
     /// Scene file(s); `-` reads standard input. Rendering takes one file;
     /// --check takes any number.

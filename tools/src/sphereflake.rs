@@ -125,7 +125,7 @@ impl Sphereflake {
                 hither: 0.01,
                 resolution: self.resolution,
             }),
-            background: Some(DVec3::new(0.078, 0.361, 0.753)),
+            background: Some(nffkit_formats::SPD_SKY),
             lights: [(4.0, 3.0, 2.0), (1.0, -4.0, 4.0), (-3.0, 1.0, 5.0)]
                 .iter()
                 .map(|&(x, y, z)| Light { position: DVec3::new(x, y, z), color: None })

@@ -88,6 +88,17 @@ fn stats_are_printed_when_asked() {
     let text = String::from_utf8(o.stdout).unwrap();
     assert!(text.contains("eye 81,") || text.contains("eye 81"), "{text}");
     assert!(text.contains("SPD test procedure"));
+    // The report names the sampling actually used, and tests per kind by name.
+    let scene = spd("balls_s1.nff");
+    let plain = |extra: &[&str]| {
+        let args = [&[&scene, "-o", out.to_str().unwrap(), "--stats", "--width", "8"][..], extra];
+        String::from_utf8(run(RENDER, &args.concat(), None).stdout).unwrap()
+    };
+    let text = plain(&[]);
+    assert!(text.contains("1 ray through each pixel centre"), "{text}");
+    assert!(text.contains("sphere ") && text.contains("triangle ") && text.contains("cone "), "{text}");
+    let text = plain(&["--spp", "4", "--sampler", "sobol"]);
+    assert!(text.contains("4 spp sobol, filter box"), "{text}");
 }
 
 #[test]
@@ -233,4 +244,53 @@ fn adaptive_depth_control_prunes_rays_and_barely_changes_the_image() {
         ia.pixels().zip(ib.pixels()).flat_map(|(p, q)| (0..3).map(move |i| p[i].abs_diff(q[i]))).max();
     assert!(worst.unwrap() <= 2, "{worst:?}");
     assert!(!run(RENDER, &["--min-weight", "2"], None).status.success());
+}
+
+fn run_in(bin: &str, dir: &Path, args: &[&str]) -> Output {
+    Command::new(bin).args(args).current_dir(dir).stdin(std::process::Stdio::null()).output().unwrap()
+}
+
+#[test]
+fn golden_finds_scenes_from_any_folder_inside_the_checkout_and_says_so_outside() {
+    let golden = env!("CARGO_BIN_EXE_golden");
+    // From a folder deep inside the checkout: the catalogue is found (an
+    // unknown case name is the error, not a missing catalogue).
+    let inside = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/bin");
+    let o = run_in(golden, &inside, &["update", "no-such-case"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("no case named no-such-case"), "{err}");
+    // From a folder outside any checkout: a clear error.
+    let outside = tempfile::tempdir().unwrap();
+    let o = run_in(golden, outside.path(), &["check"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{err}");
+    assert!(err.contains("no scenes/catalogue.toml") && err.contains("--scenes"), "{err}");
+}
+
+#[test]
+fn every_binary_has_its_own_help_and_no_build_machine_path() {
+    let bins = [
+        env!("CARGO_BIN_EXE_render"),
+        env!("CARGO_BIN_EXE_planegen"),
+        env!("CARGO_BIN_EXE_sphereflake"),
+        env!("CARGO_BIN_EXE_mesh2nff"),
+        env!("CARGO_BIN_EXE_golden"),
+        env!("CARGO_BIN_EXE_table1"),
+        env!("CARGO_BIN_EXE_aademo"),
+        env!("CARGO_BIN_EXE_raybench"),
+    ];
+    let source_tree = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_string_lossy().into_owned();
+    let mut abouts = std::collections::BTreeSet::new();
+    for bin in bins {
+        for flag in ["-h", "--help"] {
+            let o = run(bin, &[flag], None);
+            let help = String::from_utf8_lossy(&o.stdout).into_owned();
+            assert!(o.status.success(), "{bin} {flag}");
+            assert!(!help.contains(&source_tree), "{bin} {flag} shows the build tree:\n{help}");
+            if flag == "-h" {
+                abouts.insert(help.lines().next().unwrap_or_default().to_string());
+            }
+        }
+    }
+    assert_eq!(abouts.len(), bins.len(), "binaries share an about text: {abouts:?}");
 }

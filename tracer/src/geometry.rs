@@ -76,8 +76,6 @@ pub struct PrimInfo {
     pub cull: Cull,
     /// For triangles from a `pp` patch: index into [`Geometry::patch_normals`].
     pub patch: Option<u32>,
-    /// The NFF primitive it came from (index in the file's primitive list).
-    pub source: u32,
 }
 
 /// A hit: enough to find the surface later, nothing more.
@@ -502,7 +500,7 @@ mod tests {
         assert!((t - 4.25).abs() < 1e-5, "{t}");
         let g = Geometry {
             cones: vec![c],
-            info: vec![PrimInfo { material: 0, cull: Cull::None, patch: None, source: 0 }],
+            info: vec![PrimInfo { material: 0, cull: Cull::None, patch: None }],
             ..Default::default()
         };
         let b = g.bounds(0);

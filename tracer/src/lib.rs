@@ -19,6 +19,8 @@ pub mod film;
 pub mod filter;
 pub mod geometry;
 pub mod integrator;
+pub mod light;
+pub mod material;
 pub mod math;
 pub mod prepare;
 pub mod render;

@@ -4,36 +4,12 @@
 use crate::accel::{Accel, AccelOptions};
 use crate::camera::Camera;
 use crate::geometry::{Cone, Cull, Geometry, PrimInfo, Sphere, Triangle};
+use crate::light::PointLight;
+use crate::material::WhittedMaterial;
 use crate::triangulate::triangulate;
 use glam::{DVec3, Vec3A};
 use nffkit_formats::{Scene, Shape};
 use thiserror::Error;
-
-/// A light as the shader sees it.
-#[derive(Debug, Clone, Copy)]
-pub struct PointLight {
-    /// Position.
-    pub position: Vec3A,
-    /// RGB intensity.
-    pub intensity: Vec3A,
-}
-
-/// A material as the shader sees it.
-#[derive(Debug, Clone, Copy)]
-pub struct Material {
-    /// Surface colour.
-    pub color: Vec3A,
-    /// Diffuse weight.
-    pub kd: f32,
-    /// Specular weight.
-    pub ks: f32,
-    /// Phong exponent.
-    pub shine: f32,
-    /// Transmittance.
-    pub t: f32,
-    /// Index of refraction.
-    pub ior: f32,
-}
 
 /// How to turn the file into a renderable scene.
 #[derive(Debug, Clone, Copy, Default)]
@@ -71,7 +47,7 @@ pub struct RenderScene {
     /// Lights with their intensities.
     pub lights: Vec<PointLight>,
     /// Materials; index 0 is the default for primitives before any `f`.
-    pub materials: Vec<Material>,
+    pub materials: Vec<WhittedMaterial>,
     /// Background colour.
     pub background: Vec3A,
     /// The primitives.
@@ -107,7 +83,7 @@ pub fn prepare(scene: &Scene, opts: &PrepareOptions) -> Result<RenderScene, Prep
         .collect();
     let materials = std::iter::once(nffkit_formats::Material::default())
         .chain(scene.materials.iter().cloned())
-        .map(|m| Material {
+        .map(|m| WhittedMaterial {
             color: v3(m.color),
             kd: m.kd as f32,
             ks: m.ks as f32,
@@ -130,12 +106,12 @@ pub fn prepare(scene: &Scene, opts: &PrepareOptions) -> Result<RenderScene, Prep
 
 /// Flatten the file's primitives into typed arrays (spheres, then
 /// triangles, then cones, the order of the id space).
-pub fn build_geometry(scene: &Scene, materials: &[Material], one_sided: bool) -> Geometry {
+pub fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_sided: bool) -> Geometry {
     let mut g = Geometry::default();
     let mut sphere_info = Vec::new();
     let mut tri_info = Vec::new();
     let mut cone_info = Vec::new();
-    for (index, prim) in scene.primitives.iter().enumerate() {
+    for prim in &scene.primitives {
         let material = prim.material.map_or(0, |m| m + 1);
         let transmissive = materials[material as usize].t > 0.0;
         let cull = |inside_only: bool| {
@@ -147,7 +123,7 @@ pub fn build_geometry(scene: &Scene, materials: &[Material], one_sided: bool) ->
                 Cull::None
             }
         };
-        let info = |cull, patch| PrimInfo { material, cull, patch, source: index as u32 };
+        let info = |cull, patch| PrimInfo { material, cull, patch };
         match &prim.shape {
             Shape::Sphere { center, radius } => {
                 if *radius == 0.0 {

@@ -342,16 +342,6 @@ pub fn concentric_disk(u: Vec2) -> Vec2 {
     Vec2::new(r * theta.cos(), r * theta.sin())
 }
 
-/// Direction on the hemisphere around +z with density ∝ cos^e θ (e = 1 is
-/// the cosine-weighted hemisphere), for glossy and diffuse sampling.
-#[inline]
-pub fn cosine_power_hemisphere(u: Vec2, e: f32) -> glam::Vec3 {
-    let cos_t = (1.0 - u.y).powf(1.0 / (e + 1.0));
-    let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
-    let phi = 2.0 * std::f32::consts::PI * u.x;
-    glam::Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -490,15 +480,6 @@ mod tests {
             let u = Vec2::new((i as f32 * 0.618) % 1.0, (i as f32 * 0.377) % 1.0);
             let v = u + Vec2::splat(1e-4);
             assert!((concentric_disk(u) - concentric_disk(v)).length() < 1e-3);
-        }
-    }
-
-    #[test]
-    fn cosine_power_hemisphere_is_upward_and_unit() {
-        for i in 0..100 {
-            let u = Vec2::new(i as f32 / 100.0, (i * 37 % 100) as f32 / 100.0);
-            let d = cosine_power_hemisphere(u, 1.0);
-            assert!(d.z >= 0.0 && (d.length() - 1.0).abs() < 1e-5);
         }
     }
 }

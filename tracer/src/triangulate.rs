@@ -4,7 +4,7 @@
 //! polygon.
 
 use glam::{DVec2, DVec3};
-use nffkit_formats::polygon::newell_normal;
+use nffkit_formats::polygon::{newell_normal, orient, project, signed_area};
 
 /// Triangles as index triples into `v`, wound like the polygon. Triangles of
 /// zero area are dropped. Self-intersecting outlines, which have no proper
@@ -50,29 +50,6 @@ pub fn triangulate(v: &[DVec3]) -> Vec<[u32; 3]> {
         a.length_squared() > 0.0
     });
     out
-}
-
-/// Projects onto the axis plane the normal faces most, keeping orientation
-/// (a polygon counter-clockwise about `n` stays counter-clockwise).
-fn project(v: &[DVec3], n: DVec3) -> Vec<DVec2> {
-    let a = n.abs();
-    let (i, j, s) = if a.x >= a.y && a.x >= a.z {
-        (1, 2, n.x)
-    } else if a.y >= a.z {
-        (2, 0, n.y)
-    } else {
-        (0, 1, n.z)
-    };
-    let flip = if s < 0.0 { -1.0 } else { 1.0 };
-    v.iter().map(|p| DVec2::new(p[i] * flip, p[j])).collect()
-}
-
-fn signed_area(p: &[DVec2]) -> f64 {
-    (0..p.len()).map(|i| p[i].perp_dot(p[(i + 1) % p.len()])).sum::<f64>() * 0.5
-}
-
-fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
-    (b - a).perp_dot(c - a)
 }
 
 fn is_ear(p: &[DVec2], idx: &[u32], i: usize) -> bool {

@@ -1,12 +1,13 @@
 //! Grid, BVH and brute force agree on every hit; mailboxes change nothing but
-//! the work; the DDA visits every cell a ray crosses, in order.
+//! the work. (The DDA's cell order is tested beside it, in `accel/grid.rs`.)
 
 use glam::{DVec3, Vec3A};
 use nffkit_formats::{Primitive, Scene, Shape, SourceLine};
 use nffkit_tracer::accel::{BruteForce, Bvh, Grid, Intersector};
 use nffkit_tracer::geometry::Geometry;
+use nffkit_tracer::material::WhittedMaterial;
 use nffkit_tracer::math::{Ray, RayQuery};
-use nffkit_tracer::prepare::{build_geometry, Material};
+use nffkit_tracer::prepare::build_geometry;
 use nffkit_tracer::stats::Counters;
 use proptest::prelude::*;
 
@@ -39,7 +40,7 @@ fn random_scene(seed: u64, n: usize) -> Geometry {
         };
         scene.primitives.push(Primitive { shape, material: None, line: SourceLine(0) });
     }
-    let m = Material { color: Vec3A::ONE, kd: 1.0, ks: 0.0, shine: 1.0, t: 0.0, ior: 1.0 };
+    let m = WhittedMaterial { color: Vec3A::ONE, kd: 1.0, ks: 0.0, shine: 1.0, t: 0.0, ior: 1.0 };
     build_geometry(&scene, &[m], false)
 }
 
@@ -107,54 +108,6 @@ fn grid_with_m_zero_is_one_cell() {
     let g = random_scene(3, 50);
     let grid = Grid::build(&g, 0.0, true);
     assert_eq!(grid.dims, [1, 1, 1]);
-}
-
-#[test]
-fn dda_visits_every_crossed_cell_in_order() {
-    let g = random_scene(11, 500);
-    let grid = Grid::build(&g, 2.0, false);
-    let (lo, hi) = (g_bounds_min(&g), g_bounds_max(&g));
-    for i in 0..300 {
-        let a = i as f32 * 0.618;
-        let o = [a.sin() * 9.0, (a * 1.7).cos() * 9.0, (a * 0.3).sin() * 9.0];
-        let d = [-o[0] + (a * 5.0).sin(), -o[1] + (a * 3.0).cos(), -o[2] + 0.5];
-        let q = query(o, d).unwrap();
-        let visited = grid.cells_along(&q, f32::INFINITY);
-        // Brute-force walk: sample the ray densely inside the grid; every cell
-        // met must appear among the visited ones, in the same order.
-        let mut walk: Vec<[u32; 3]> = Vec::new();
-        for k in 0..20000 {
-            let t = k as f32 * 0.002;
-            let p = q.ray.at(t);
-            if (0..3).any(|j| p[j] < lo[j] + 1e-3 || p[j] > hi[j] - 1e-3) {
-                continue;
-            }
-            let c = grid.cell_of(p);
-            if walk.last() != Some(&c) {
-                walk.push(c);
-            }
-        }
-        let mut pos = 0;
-        for c in &walk {
-            match visited[pos..].iter().position(|v| v == c) {
-                Some(k) => pos += k,
-                None => panic!("ray {i}: cell {c:?} crossed but not visited (visited {visited:?})"),
-            }
-        }
-        // Consecutive visited cells are face neighbours.
-        for w in visited.windows(2) {
-            let dist: i32 = (0..3).map(|j| (w[0][j] as i32 - w[1][j] as i32).abs()).sum();
-            assert_eq!(dist, 1);
-        }
-    }
-}
-
-fn g_bounds_min(g: &Geometry) -> Vec3A {
-    (0..g.len() as u32).map(|i| g.bounds(i).min).fold(Vec3A::splat(f32::INFINITY), |a, b| a.min(b))
-}
-
-fn g_bounds_max(g: &Geometry) -> Vec3A {
-    (0..g.len() as u32).map(|i| g.bounds(i).max).fold(Vec3A::splat(f32::NEG_INFINITY), |a, b| a.max(b))
 }
 
 #[test]

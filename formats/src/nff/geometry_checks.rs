@@ -2,7 +2,7 @@
 //! planarity, a convex first corner, simple (non-self-intersecting) outlines,
 //! and unit patch normals that agree with the winding.
 
-use crate::polygon::newell_normal;
+use crate::polygon::{newell_normal, orient, project};
 use glam::{DVec2, DVec3};
 
 /// Polygons with more vertices than this skip the quadratic
@@ -93,23 +93,6 @@ fn self_intersects(v: &[DVec3], nh: DVec3) -> bool {
         }
     }
     false
-}
-
-/// 2D coordinates of the polygon in the axis plane it faces most.
-pub fn project(v: &[DVec3], n: DVec3) -> Vec<DVec2> {
-    let a = n.abs();
-    let (i, j) = if a.x >= a.y && a.x >= a.z {
-        (1, 2)
-    } else if a.y >= a.z {
-        (2, 0)
-    } else {
-        (0, 1)
-    };
-    v.iter().map(|p| DVec2::new(p[i], p[j])).collect()
-}
-
-fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
-    (b - a).perp_dot(c - a)
 }
 
 fn segments_cross(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> bool {

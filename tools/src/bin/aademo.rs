@@ -8,12 +8,14 @@ use nffkit_tools::cli_util;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+/// Anti-aliasing demonstration: every sampler at several sample counts, compared with a reference.
+///
 /// Render the checkerboard plane with every sampler at several sample
 /// counts; write a labelled contact sheet (contact-sheet.png), the error
 /// table against a high-sample reference (errors.md, also printed) and a
 /// log-log convergence plot (convergence.svg) into the output folder.
 #[derive(Parser, Debug)]
-#[command(version, about, long_about)]
+#[command(name = "aademo", version)]
 struct Args {
     /// Output folder (created if missing).
     #[arg(short, long, default_value = "aademo")]

@@ -10,11 +10,13 @@ use nffkit_tools::golden::{
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+/// Check or regenerate the golden images of the scene catalogue.
+///
 /// Golden-image regression: render every case of the scene catalogue
 /// (scenes/catalogue.toml) and compare it with its golden image (pixels off
 /// by more than 8/255, and NVIDIA's FLIP), or regenerate the goldens.
 #[derive(Parser, Debug)]
-#[command(name = "golden", version, about, long_about)]
+#[command(name = "golden", version)]
 struct Args {
     /// The scenes folder holding catalogue.toml and golden/. Default: the
     /// `scenes/` folder of the current directory or the nearest folder

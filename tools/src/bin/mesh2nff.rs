@@ -7,13 +7,15 @@ use nffkit_tools::mesh2nff::{write, Options, Up};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+/// Convert OBJ and glTF meshes into NFF scenes that render as they are.
+///
 /// Convert an OBJ (with MTL) or glTF 2.0 (.gltf, .glb) mesh into an NFF scene
 /// that renders as it is: polygons or smooth patches, materials as `f`
 /// lines, and (unless --no-view) a view, lights and background framing the
 /// model. Coordinates stay the source's world coordinates unless --center,
 /// --fit or --scale is given.
 #[derive(Parser, Debug)]
-#[command(version, about, long_about)]
+#[command(name = "mesh2nff", version)]
 struct Args {
     /// The model.
     model: PathBuf,

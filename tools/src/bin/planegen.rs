@@ -8,10 +8,12 @@ use nffkit_tools::{cli_util, input, planegen::Board};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+/// Write a checkerboard plane as an NFF scene, or add one to a scene.
+///
 /// Write an XY-aligned checkerboard of `p 4` squares as an NFF scene (with a
 /// view, a light and a background), or add it to an existing scene.
 #[derive(Parser, Debug)]
-#[command(version, about, long_about)]
+#[command(name = "planegen", version)]
 struct Args {
     /// Squares along x.
     #[arg(long, default_value_t = 16)]

@@ -15,10 +15,12 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
+/// Primary-ray throughput of one accelerator on one thread.
+///
 /// Shoot one pixel-centre eye ray per pixel on one thread and report the
 /// nearest-hit rate (best of --runs), without shading.
 #[derive(Parser, Debug)]
-#[command(version, about)]
+#[command(name = "raybench", version)]
 struct Args {
     /// Scene file.
     scene: PathBuf,

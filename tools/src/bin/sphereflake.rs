@@ -7,12 +7,14 @@ use nffkit_tools::sphereflake::{sphere_count, Floor, Sphereflake};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+/// Write the SPD sphereflake ("balls") database at any level.
+///
 /// Write the SPD sphereflake ("balls") at a level, sphere for sphere as the
 /// SPD's own program does (level N has 1 + 9 + ... + 9^N spheres). The
 /// output streams, so level 7 (5.4 million spheres) needs no memory to speak
 /// of.
 #[derive(Parser, Debug)]
-#[command(version, about, long_about)]
+#[command(name = "sphereflake", version)]
 struct Args {
     /// Recursion level (the SPD's size factor; its balls_s1..s4 are 1..4).
     #[arg(long, default_value_t = 4)]

@@ -240,8 +240,9 @@ impl Grid {
         }
     }
 
-    /// Cell coordinates the DDA visits, in order (for tests and tools).
-    pub fn cells_along(&self, q: &RayQuery, t_max: f32) -> Vec<[u32; 3]> {
+    /// Cell coordinates the DDA visits, in order.
+    #[cfg(test)]
+    fn cells_along(&self, q: &RayQuery, t_max: f32) -> Vec<[u32; 3]> {
         let mut out = Vec::new();
         let (dx, dy) = (self.dims[0] as usize, self.dims[1] as usize);
         self.walk(q, t_max, |c, _| {
@@ -252,7 +253,8 @@ impl Grid {
     }
 
     /// The cell holding point `p` (clamped), as the builder computes it.
-    pub fn cell_of(&self, p: Vec3A) -> [u32; 3] {
+    #[cfg(test)]
+    fn cell_of(&self, p: Vec3A) -> [u32; 3] {
         self.world_to_cell(p)
     }
 }
@@ -336,6 +338,65 @@ impl Grid {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::{Cull, PrimInfo, Sphere};
+    use crate::math::Ray;
+
+    /// 500 spheres scattered in [-5, 5]^3 by a fixed xorshift.
+    fn scattered_spheres() -> Geometry {
+        let mut s = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rnd = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut g = Geometry::default();
+        for _ in 0..500 {
+            let center = Vec3A::new(rnd(), rnd(), rnd()) * 10.0 - 5.0;
+            g.spheres.push(Sphere { center, radius: 0.1 + rnd() * 0.5 });
+            g.info.push(PrimInfo { material: 0, cull: Cull::None, patch: None });
+        }
+        g
+    }
+
+    #[test]
+    fn dda_visits_every_crossed_cell_in_order() {
+        let g = scattered_spheres();
+        let grid = Grid::build(&g, 2.0, false);
+        let (lo, hi) = (grid.bounds.min, grid.bounds.max);
+        for i in 0..300 {
+            let a = i as f32 * 0.618;
+            let o = Vec3A::new(a.sin() * 9.0, (a * 1.7).cos() * 9.0, (a * 0.3).sin() * 9.0);
+            let d = Vec3A::new(-o.x + (a * 5.0).sin(), -o.y + (a * 3.0).cos(), -o.z + 0.5);
+            let q = RayQuery::new(Ray::new(o, d), 0.0);
+            let visited = grid.cells_along(&q, f32::INFINITY);
+            // Brute-force walk: sample the ray densely inside the grid; every
+            // cell met must appear among the visited ones, in the same order.
+            let mut walk: Vec<[u32; 3]> = Vec::new();
+            for k in 0..20000 {
+                let p = q.ray.at(k as f32 * 0.002);
+                if (0..3).any(|j| p[j] < lo[j] + 1e-3 || p[j] > hi[j] - 1e-3) {
+                    continue;
+                }
+                let c = grid.cell_of(p);
+                if walk.last() != Some(&c) {
+                    walk.push(c);
+                }
+            }
+            let mut pos = 0;
+            for c in &walk {
+                match visited[pos..].iter().position(|v| v == c) {
+                    Some(k) => pos += k,
+                    None => panic!("ray {i}: cell {c:?} crossed but not visited (visited {visited:?})"),
+                }
+            }
+            // Consecutive visited cells are face neighbours.
+            for w in visited.windows(2) {
+                let dist: i32 = (0..3).map(|j| (w[0][j] as i32 - w[1][j] as i32).abs()).sum();
+                assert_eq!(dist, 1);
+            }
+        }
+    }
 
     #[test]
     fn formula_one_and_m_zero() {
