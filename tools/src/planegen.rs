@@ -1,4 +1,4 @@
-//! The checkerboard plane (seed §4.3): an XY-aligned board of `p 4` squares
+//! The checkerboard plane (P3D report §4.3): an XY-aligned board of `p 4` squares
 //! in two colours, as a whole scene or added to an existing one.
 
 use anyhow::{bail, Result};

@@ -1,4 +1,4 @@
-//! The seed's Table 1, reproduced: six SPD scenes at 512x512, depth 6, one
+//! Table 1 of the P3D report (§3.3), reproduced: six SPD scenes at 512x512, depth 6, one
 //! sample per pixel, rendered with no acceleration, the uniform grid and the
 //! BVH. Brute force on the big scenes would take hours, so each cell has a
 //! time cap: past it, the time is estimated from a subset of rows and the
@@ -15,15 +15,15 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
-/// One row of the table: the seed's name, how the scene is made, and the
-/// seed's own grid time for comparison.
+/// One row of the table: the report's name, how the scene is made, and the
+/// report's own times for comparison.
 pub struct Case {
-    /// The seed's name.
+    /// The report's name.
     pub name: &'static str,
     /// Sphereflake level, or the mount file to read.
     pub source: Source,
-    /// The seed's times: no acceleration, uniform grid (seconds).
-    pub seed_times: (f64, f64),
+    /// The report's times: no acceleration, uniform grid (seconds).
+    pub report_times: (f64, f64),
 }
 
 /// Where a scene comes from.
@@ -34,14 +34,14 @@ pub enum Source {
     File(&'static str),
 }
 
-/// The six scenes of the seed's Table 1.
+/// The six scenes of the P3D report's Table 1.
 pub const CASES: [Case; 6] = [
-    Case { name: "balls_low", source: Source::Balls(1), seed_times: (17.15, 12.85) },
-    Case { name: "balls_medium", source: Source::Balls(2), seed_times: (97.73, 24.51) },
-    Case { name: "balls_high", source: Source::Balls(4), seed_times: (7992.80, 79.90) },
-    Case { name: "mount_low", source: Source::File("mount_s1.nff"), seed_times: (34.06, 55.88) },
-    Case { name: "mount_high", source: Source::File("mount_s5.nff"), seed_times: (4064.21, 127.27) },
-    Case { name: "mount_very_high", source: Source::File("mount_s7.nff"), seed_times: (78774.54, 253.84) },
+    Case { name: "balls_low", source: Source::Balls(1), report_times: (17.15, 12.85) },
+    Case { name: "balls_medium", source: Source::Balls(2), report_times: (97.73, 24.51) },
+    Case { name: "balls_high", source: Source::Balls(4), report_times: (7992.80, 79.90) },
+    Case { name: "mount_low", source: Source::File("mount_s1.nff"), report_times: (34.06, 55.88) },
+    Case { name: "mount_high", source: Source::File("mount_s5.nff"), report_times: (4064.21, 127.27) },
+    Case { name: "mount_very_high", source: Source::File("mount_s7.nff"), report_times: (78774.54, 253.84) },
 ];
 
 /// A measured cell.
@@ -104,7 +104,7 @@ pub fn table(spd_dir: &Path, size: u32, cap: f64, progress: &dyn Fn(&str)) -> Re
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "| scene | primitives | none (s) | grid (s) | BVH (s) | grid speedup | BVH speedup | Mrays/s none / grid / BVH | seed: none / grid (s) |"
+        "| scene | primitives | none (s) | grid (s) | BVH (s) | grid speedup | BVH speedup | Mrays/s none / grid / BVH | P3D report: none / grid (s) |"
     );
     let _ = writeln!(out, "|---|---:|---:|---:|---:|---:|---:|---:|---:|");
     let mut any_estimate = false;
@@ -129,8 +129,8 @@ pub fn table(spd_dir: &Path, size: u32, cap: f64, progress: &dyn Fn(&str)) -> Re
             t[0].mrays,
             t[1].mrays,
             t[2].mrays,
-            case.seed_times.0,
-            case.seed_times.1
+            case.report_times.0,
+            case.report_times.1
         );
     }
     let _ = writeln!(

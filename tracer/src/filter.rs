@@ -12,7 +12,7 @@ use strum::{Display, IntoStaticStr, VariantArray};
 #[derive(Debug, Clone, Copy, PartialEq, VariantArray, IntoStaticStr, Display)]
 #[strum(serialize_all = "kebab-case")]
 pub enum FilterKind {
-    /// The seed's plain average over the pixel (radius 1/2).
+    /// The P3D report's plain average over the pixel (radius 1/2).
     Box,
     /// Triangle, radius 1.
     Tent,

@@ -171,7 +171,7 @@ impl<I: Intersector> Whitted<'_, I> {
     }
 
     /// Where light `k` is seen from `p`: its position, or one sample on the
-    /// square or disc of `light_size` facing `p` (seed §2.2: one light sample
+    /// square or disc of `light_size` facing `p` (P3D report §2.2: one light sample
     /// per light per primary sample, from the light's own dimension).
     #[inline]
     fn light_position(&self, k: usize, center: Vec3A, p: Vec3A, depth: u32, id: SampleId) -> Vec3A {

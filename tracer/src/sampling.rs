@@ -1,13 +1,13 @@
 //! Samplers: where in the pixel, on the lens and on each area light the
-//! samples go (seed sections 1 and 4.1, and beyond).
+//! samples go (P3D report §1 and §4.1, and beyond).
 //!
 //! Every sample is a pure function of (pixel, sample index, dimension, seed):
 //! no sampler holds state between calls, so the image cannot depend on thread
 //! count or tile order. Each 2D "dimension" (pixel position, lens, each
 //! light at each bounce) draws from its own shuffled copy of the pattern, the
-//! decorrelation the seed gets from one sampler object per purpose.
+//! decorrelation the P3D report gets from one sampler object per purpose.
 //!
-//! The seed's sample sets, shuffling and `nextSample` map onto this as:
+//! The P3D report's sample sets, shuffling and `nextSample` map onto this as:
 //! a [`SampleSet`] is the whole pattern of one pixel and dimension, its
 //! shuffle is the index permutation applied per (pixel, dimension), and
 //! [`PixelSamples::next_sample`] walks a set in order.
@@ -286,7 +286,7 @@ pub fn randfloat(mut i: u32, p: u32) -> f32 {
     to_unit(i)
 }
 
-/// The whole pattern of one pixel and dimension: the seed's sample set.
+/// The whole pattern of one pixel and dimension: the P3D report's sample set.
 #[derive(Debug, Clone)]
 pub struct SampleSet {
     /// The points, in shuffled order.
@@ -300,7 +300,7 @@ impl SampleSet {
     }
 }
 
-/// The samples of one pixel in order: the seed's `nextSample`, without a
+/// The samples of one pixel in order: the P3D report's `nextSample`, without a
 /// stored table.
 #[derive(Debug, Clone)]
 pub struct PixelSamples<'a> {

@@ -1,4 +1,4 @@
-//! `planegen`: write a checkerboard plane as NFF (seed §4.3).
+//! `planegen`: write a checkerboard plane as NFF (P3D report §4.3).
 
 use anyhow::{bail, Context, Result};
 use clap::Parser;

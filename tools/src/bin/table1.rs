@@ -1,4 +1,4 @@
-//! `table1`: reproduce the seed's Table 1. See `table1 --help`.
+//! `table1`: reproduce Table 1 of the P3D report. See `table1 --help`.
 
 use anyhow::{Context, Result};
 use clap::Parser;
@@ -9,7 +9,7 @@ use std::process::ExitCode;
 
 /// Reproduce Table 1 of the P3D report: brute force, uniform grid and BVH timed on six SPD scenes.
 ///
-/// Reproduce the seed's Table 1: balls (levels 1, 2, 4) and mount (levels 1,
+/// Balls (levels 1, 2, 4) and mount (levels 1,
 /// 5, 7) at 512x512, depth 6, 1 spp, with no acceleration, the uniform grid
 /// and the BVH; prints a markdown table with speedups and Mrays/s.
 #[derive(Parser, Debug)]

@@ -1,5 +1,5 @@
 //! No acceleration: every ray tests every primitive. The reference the other
-//! structures are checked against, and the baseline of the seed's Table 1.
+//! structures are checked against, and the baseline of the P3D report's Table 1.
 
 use super::{test_prim, test_shadow, Intersector};
 use crate::geometry::{Geometry, Hit};

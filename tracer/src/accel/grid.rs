@@ -1,4 +1,4 @@
-//! The seed's uniform grid (its section 3), with mailboxes (its section 4.2)
+//! The P3D report's uniform grid (§3), with mailboxes (§4.2)
 //! made safe for many threads.
 //!
 //! - World box: the union of the primitives' boxes.
@@ -73,7 +73,7 @@ impl Mailbox {
     }
 }
 
-/// Cells per axis by the seed's formula (1).
+/// Cells per axis by formula (1) of the P3D report (§3.2.2).
 pub fn cell_counts(bounds: &Aabb, n: usize, m: f32) -> [u32; 3] {
     let size = bounds.size().max(Vec3A::ZERO);
     // A flat world (an axis-aligned polygon) has no volume: give thin axes a
@@ -124,7 +124,7 @@ impl Grid {
         grid
     }
 
-    /// Algorithm 2 of the seed: a world position to clamped cell indices.
+    /// Algorithm 2 of the P3D report (§3.2.3): a world position to clamped cell indices.
     fn world_to_cell(&self, p: Vec3A) -> [u32; 3] {
         let rel = (p - self.bounds.min) * self.inv_cell_size;
         let mut c = [0u32; 3];

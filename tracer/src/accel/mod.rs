@@ -1,4 +1,4 @@
-//! Acceleration structures behind one interface: brute force, the seed's
+//! Acceleration structures behind one interface: brute force, the P3D report's
 //! uniform grid with mailboxes, and a binned-SAH BVH (the default).
 //!
 //! The renderer matches on [`Accel`] once per image and then runs code
@@ -54,7 +54,7 @@ pub trait Intersector: Sync {
 pub enum AccelKind {
     /// Test every primitive.
     None,
-    /// The seed's uniform grid.
+    /// The P3D report's uniform grid.
     Grid,
     /// Bounding volume hierarchy.
     #[default]
@@ -66,7 +66,7 @@ pub enum AccelKind {
 pub struct AccelOptions {
     /// Which structure.
     pub kind: AccelKind,
-    /// The grid's density multiplier M (formula (1) of the seed).
+    /// The grid's density multiplier M (formula (1) of the P3D report).
     pub grid_m: f32,
     /// Whether the grid uses mailboxes.
     pub mailbox: bool,
