@@ -93,18 +93,49 @@ pub fn encode(img: &RgbImage, kind: ImageKind, srgb: bool) -> io::Result<Vec<u8>
             write!(buf, "P6\n{} {}\n255\n", img.width, img.height)?;
             buf.extend(img.to_rgb8(srgb));
         }
-        ImageKind::Exr | ImageKind::Hdr => {
+        ImageKind::Exr => {
+            let attrs = exr::prelude::LayerAttributes::default();
+            buf = encode_exr(
+                img,
+                attrs,
+                exr::prelude::IntegerBounds::from_dimensions((img.width as usize, img.height as usize)),
+            )?;
+        }
+        ImageKind::Hdr => {
             let flat: Vec<f32> = img.pixels.iter().flatten().copied().collect();
             let rgb = image::Rgb32FImage::from_raw(img.width, img.height, flat)
                 .expect("buffer size matches dimensions");
-            let fmt =
-                if kind == ImageKind::Exr { image::ImageFormat::OpenExr } else { image::ImageFormat::Hdr };
             image::DynamicImage::ImageRgb32F(rgb)
-                .write_to(&mut io::Cursor::new(&mut buf), fmt)
+                .write_to(&mut io::Cursor::new(&mut buf), image::ImageFormat::Hdr)
                 .map_err(to_io)?;
         }
     }
     Ok(buf)
+}
+
+/// Encode `img` as OpenEXR (RGB, 32-bit float, RLE in 64x64 tiles) with the
+/// given layer attributes (its data window position among them) inside
+/// `display_window`. Chunks are compressed on one thread and written in
+/// increasing order, so the same pixels always give the same bytes (the
+/// parallel writer orders chunks as they finish).
+pub fn encode_exr(
+    img: &RgbImage,
+    attributes: exr::prelude::LayerAttributes,
+    display_window: exr::prelude::IntegerBounds,
+) -> io::Result<Vec<u8>> {
+    use exr::prelude::*;
+    let w = img.width as usize;
+    let pixels = |p: Vec2<usize>| {
+        let [r, g, b] = img.pixels[p.y() * w + p.x()];
+        (r, g, b)
+    };
+    let encoding = Encoding { line_order: LineOrder::Increasing, ..Encoding::FAST_LOSSLESS };
+    let layer = Layer::new((w, img.height as usize), attributes, encoding, SpecificChannels::rgb(pixels));
+    let mut image = Image::from_layer(layer);
+    image.attributes.display_window = display_window;
+    let mut out = io::Cursor::new(Vec::new());
+    image.write().non_parallel().to_buffered(&mut out).map_err(|e| io::Error::other(e.to_string()))?;
+    Ok(out.into_inner())
 }
 
 #[cfg(test)]

@@ -11,6 +11,7 @@ pub mod golden;
 pub mod input;
 pub mod mesh2nff;
 pub mod metrics;
+pub mod part;
 pub mod planegen;
 pub mod render_args;
 pub mod render_cli;

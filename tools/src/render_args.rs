@@ -16,7 +16,7 @@ use nffkit_tracer::accel::{AccelKind, AccelOptions};
 use nffkit_tracer::filter::FilterKind;
 use nffkit_tracer::integrator::LightShape;
 use nffkit_tracer::prepare::PrepareOptions;
-use nffkit_tracer::render::RenderSettings;
+use nffkit_tracer::render::{PixelWindow, RenderSettings};
 use nffkit_tracer::sampling::{Sampler, SamplerKind};
 use std::path::PathBuf;
 
@@ -130,7 +130,72 @@ pub struct RenderArgs {
     /// tests plus nodes or cells visited) to this PNG, with a colour bar.
     #[arg(long, value_name = "FILE")]
     pub aov_cost: Option<PathBuf>,
+
+    /// Render only a crop window, as fractions of the image (pbrt's
+    /// convention): columns ceil(x0*w)..ceil(x1*w), rows likewise. Written
+    /// to .exr, the part carries its window and can be merged by nffmerge.
+    #[arg(long, value_name = "X0,X1,Y0,Y1", value_parser = crop_window, group = "part")]
+    pub crop: Option<[f64; 4]>,
+    /// Render only these pixels: columns X0..X1, rows Y0..Y1, ends exclusive.
+    #[arg(long, value_name = "X0,X1,Y0,Y1", value_parser = pixel_bounds, group = "part")]
+    pub pixel_bounds: Option<[u32; 4]>,
+    /// Render the K-th of N parts (0-based): horizontal bands of whole
+    /// 16-row render tiles, as equal as the tiles allow. For render farms:
+    /// write each part to .exr and join them with nffmerge.
+    #[arg(long, value_name = "K/N", value_parser = tile_of, group = "part")]
+    pub tile: Option<[u32; 2]>,
 }
+
+/// Which part of the image to render, as the user gave it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PartSpec {
+    /// Fractions of the image: x0, x1, y0, y1.
+    Crop([f64; 4]),
+    /// Pixels: x0, x1, y0, y1, ends exclusive.
+    Pixels([u32; 4]),
+    /// The K-th of N bands.
+    Tile {
+        /// Which band, from 0.
+        k: u32,
+        /// How many bands.
+        n: u32,
+    },
+}
+
+impl PartSpec {
+    /// The pixels of a `width` x `height` image this part covers.
+    pub fn window(&self, width: u32, height: u32) -> Result<PixelWindow> {
+        let win = match *self {
+            PartSpec::Crop([x0, x1, y0, y1]) => {
+                let at = |f: f64, n: u32| (f * n as f64).ceil() as u32;
+                PixelWindow { x0: at(x0, width), x1: at(x1, width), y0: at(y0, height), y1: at(y1, height) }
+            }
+            PartSpec::Pixels([x0, x1, y0, y1]) => {
+                if x1 > width || y1 > height {
+                    bail!("--pixel-bounds {x0},{x1},{y0},{y1} reaches past the {width}x{height} image");
+                }
+                PixelWindow { x0, x1, y0, y1 }
+            }
+            PartSpec::Tile { k, n } => {
+                let rows = height.div_ceil(TILE_ROWS);
+                if n > rows {
+                    bail!(
+                        "--tile {k}/{n}: the {width}x{height} image has only {rows} bands of {TILE_ROWS} rows; use at most {rows} parts"
+                    );
+                }
+                let band = |i: u32| ((i as u64 * rows as u64 / n as u64) as u32 * TILE_ROWS).min(height);
+                PixelWindow { x0: 0, x1: width, y0: band(k), y1: band(k + 1) }
+            }
+        };
+        if win.width() == 0 || win.height() == 0 {
+            bail!("--crop {self:?} covers no whole pixel of the {width}x{height} image");
+        }
+        Ok(win)
+    }
+}
+
+/// Rows of one band of render tiles (the renderer's tile side).
+const TILE_ROWS: u32 = 16;
 
 /// What `render` is asked to do, validated.
 #[derive(Debug, Clone)]
@@ -173,6 +238,8 @@ pub struct RenderConfig {
     pub quiet: bool,
     /// Adjustments to tell the user about (a sample count rounded up).
     pub notes: Vec<String>,
+    /// Only a part of the image, for render farms.
+    pub part: Option<PartSpec>,
 }
 
 impl RenderArgs {
@@ -195,6 +262,9 @@ impl RenderArgs {
         }
         let output = self.output_path();
         let output_kind = ImageKind::from_path(&output)?;
+        if self.spd_stats && self.part().is_some() {
+            bail!("--spd-stats traces pixel corners over the whole image; it takes no --crop, --pixel-bounds or --tile");
+        }
         if let Some(cost) = &self.aov_cost {
             if ImageKind::from_path(cost)? != ImageKind::Png {
                 bail!("--aov-cost writes a PNG heat map; {} is not a .png", cost.display());
@@ -213,6 +283,7 @@ impl RenderArgs {
             spd_corners: self.spd_stats,
             cost: self.aov_cost.is_some(),
             row_stride: 1,
+            window: None,
         };
         let prepare = PrepareOptions {
             width: self.width,
@@ -235,7 +306,15 @@ impl RenderArgs {
             stats: self.stats || self.spd_stats,
             quiet: self.quiet,
             notes: note.into_iter().map(|m| format!("--spp: {m}")).collect(),
+            part: self.part(),
         })
+    }
+
+    fn part(&self) -> Option<PartSpec> {
+        self.crop
+            .map(PartSpec::Crop)
+            .or(self.pixel_bounds.map(PartSpec::Pixels))
+            .or(self.tile.map(|[k, n]| PartSpec::Tile { k, n }))
     }
 
     fn output_path(&self) -> PathBuf {
@@ -263,6 +342,42 @@ where
         std::iter::once(std::ffi::OsString::from("render")).chain(args.into_iter().map(Into::into)),
     )?;
     args.render_config()
+}
+
+fn four<T: std::str::FromStr + Copy>(s: &str) -> Result<[T; 4], String> {
+    let parts: Vec<Option<T>> = s.split(',').map(|p| p.trim().parse().ok()).collect();
+    match parts[..] {
+        [Some(a), Some(b), Some(c), Some(d)] => Ok([a, b, c, d]),
+        _ => Err(format!("expected four comma-separated numbers X0,X1,Y0,Y1, found `{s}`")),
+    }
+}
+
+fn crop_window(s: &str) -> Result<[f64; 4], String> {
+    let [x0, x1, y0, y1] = four::<f64>(s)?;
+    let unit = |v: f64| (0.0..=1.0).contains(&v);
+    if !([x0, x1, y0, y1].into_iter().all(unit) && x0 < x1 && y0 < y1) {
+        return Err(format!("needs fractions 0 <= x0 < x1 <= 1 and 0 <= y0 < y1 <= 1, found `{s}`"));
+    }
+    Ok([x0, x1, y0, y1])
+}
+
+fn pixel_bounds(s: &str) -> Result<[u32; 4], String> {
+    let [x0, x1, y0, y1] = four::<u32>(s)?;
+    if !(x0 < x1 && y0 < y1) {
+        return Err(format!("needs x0 < x1 and y0 < y1 (ends exclusive), found `{s}`"));
+    }
+    Ok([x0, x1, y0, y1])
+}
+
+fn tile_of(s: &str) -> Result<[u32; 2], String> {
+    let parsed = s
+        .split_once('/')
+        .and_then(|(k, n)| Some((k.trim().parse::<u32>().ok()?, n.trim().parse::<u32>().ok()?)));
+    match parsed {
+        Some((k, n)) if n >= 1 && k < n => Ok([k, n]),
+        Some((k, n)) => Err(format!("part {k} of {n} does not exist: K counts from 0 to N-1")),
+        None => Err(format!("expected K/N (the K-th of N parts, from 0), found `{s}`")),
+    }
 }
 
 fn number(s: &str) -> Result<f32, String> {

@@ -4,14 +4,14 @@
 //! `nffkit_tracer`; validation is done before anything here runs.
 
 use crate::render_args::{Command, RenderArgs, RenderConfig};
-use crate::{check, default_scene, input, report};
+use crate::{check, default_scene, input, part, report};
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
-use nffkit_formats::image_io;
+use nffkit_formats::image_io::{self, ImageKind};
 use nffkit_formats::nff::ParseOptions;
 use nffkit_tracer::film::cost_heatmap;
 use nffkit_tracer::prepare::prepare;
-use nffkit_tracer::render::render;
+use nffkit_tracer::render::{render, PixelWindow};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -69,7 +69,11 @@ fn render_command(cfg: &RenderConfig) -> Result<()> {
     };
     let t_parse = t_start.elapsed().as_secs_f64();
     let prepared = prepare(&scene, &cfg.prepare).with_context(|| name.clone())?;
-    let (w, h) = prepared.camera.resolution();
+    let full = prepared.camera.resolution();
+    let mut settings = cfg.settings.clone();
+    settings.window = cfg.part.map(|p| p.window(full.0, full.1)).transpose()?;
+    let window = settings.window.unwrap_or(PixelWindow::full(full.0, full.1));
+    let (w, h) = (window.width(), window.height());
     let bar = progress_bar(cfg.quiet, w, h);
     let tick = |done: usize, total: usize| {
         if let Some(b) = &bar {
@@ -77,12 +81,23 @@ fn render_command(cfg: &RenderConfig) -> Result<()> {
             b.set_position(done as u64);
         }
     };
-    let out = render(&prepared, &cfg.settings, &tick);
+    let out = render(&prepared, &settings, &tick);
     if let Some(b) = bar {
         b.finish_and_clear();
     }
     let image = out.film.to_image();
-    let bytes = image_io::encode(&image, cfg.output_kind, cfg.srgb)?;
+    let bytes = match (cfg.part, cfg.output_kind) {
+        // A part in EXR carries its window and what merging needs to check.
+        (Some(_), ImageKind::Exr) => part::encode_part(
+            &image,
+            full,
+            window,
+            &part::scene_digest(&scene),
+            &part::settings_signature(&settings, &cfg.prepare, &prepared.camera),
+            &out.counters,
+        )?,
+        _ => image_io::encode(&image, cfg.output_kind, cfg.srgb)?,
+    };
     nffkit_formats::atomic::write_bytes(&cfg.output, &bytes)?;
     if let (Some(path), Some(cost)) = (&cfg.aov_cost, &out.cost) {
         let (img, max) = cost_heatmap(cost, w, h);
@@ -93,10 +108,18 @@ fn render_command(cfg: &RenderConfig) -> Result<()> {
     }
     if cfg.stats {
         let times = report::Times { parse: t_parse, total: t_start.elapsed().as_secs_f64() };
-        print!("{}", report::statistics(&name, &scene, &prepared, &cfg.settings, &out, times));
+        print!("{}", report::statistics(&name, &scene, &prepared, &settings, &out, times));
     }
     if !cfg.quiet {
-        eprintln!("wrote {} ({w}x{h}) in {:.3} s", cfg.output.display(), t_start.elapsed().as_secs_f64());
+        let what = if settings.window.is_some() {
+            format!(
+                "pixels {}..{} x {}..{} of {}x{}",
+                window.x0, window.x1, window.y0, window.y1, full.0, full.1
+            )
+        } else {
+            format!("{w}x{h}")
+        };
+        eprintln!("wrote {} ({what}) in {:.3} s", cfg.output.display(), t_start.elapsed().as_secs_f64());
     }
     Ok(())
 }

@@ -43,6 +43,40 @@ pub struct RenderSettings {
     /// Render only every n-th row (1: all), leaving the others black; for
     /// estimating the time of very slow renders from a subset of pixels.
     pub row_stride: u32,
+    /// Render only these pixels of the image (a part for a render farm);
+    /// `None` is the whole image. Each pixel is a pure function of its
+    /// coordinates, so a part equals the same pixels of a full render.
+    pub window: Option<PixelWindow>,
+}
+
+/// A rectangle of pixels: columns `x0..x1`, rows `y0..y1` (ends exclusive).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PixelWindow {
+    /// First column.
+    pub x0: u32,
+    /// One past the last column.
+    pub x1: u32,
+    /// First row.
+    pub y0: u32,
+    /// One past the last row.
+    pub y1: u32,
+}
+
+impl PixelWindow {
+    /// The whole image.
+    pub fn full(width: u32, height: u32) -> PixelWindow {
+        PixelWindow { x0: 0, x1: width, y0: 0, y1: height }
+    }
+
+    /// Width in pixels.
+    pub fn width(&self) -> u32 {
+        self.x1 - self.x0
+    }
+
+    /// Height in pixels.
+    pub fn height(&self) -> u32 {
+        self.y1 - self.y0
+    }
 }
 
 impl Default for RenderSettings {
@@ -58,6 +92,7 @@ impl Default for RenderSettings {
             spd_corners: false,
             cost: false,
             row_stride: 1,
+            window: None,
         }
     }
 }
@@ -103,7 +138,11 @@ pub fn render(scene: &RenderScene, settings: &RenderSettings, progress: Progress
     crate::with_accel!(&scene.accel, a => render_with(scene, a, settings, progress))
 }
 
+/// The points a render evaluates: `width` x `height` of them, starting at
+/// (`x0`, `y0`).
 struct Grid2 {
+    x0: u32,
+    y0: u32,
     width: u32,
     height: u32,
 }
@@ -130,7 +169,7 @@ fn render_with<I: Intersector>(
     let filter = Filter::new(settings.filter);
     let out = if settings.spd_corners {
         // (w+1) x (h+1) corner rays, each pixel the mean of its four corners.
-        let grid = Grid2 { width: w + 1, height: h + 1 };
+        let grid = Grid2 { x0: 0, y0: 0, width: w + 1, height: h + 1 };
         let (corners, cost, counters) =
             run_tiles(&grid, accel, scene, settings.cost, progress, |x, y, th| {
                 let (ray, t_min) = scene.camera.ray(x as f32, y as f32, Vec2::ZERO);
@@ -148,7 +187,14 @@ fn render_with<I: Intersector>(
             cost.map(|c| (0..w * h).map(|i| c[((i / w) * (w + 1) + i % w) as usize]).collect::<Vec<_>>());
         RenderOutput { film, cost, counters, seconds: 0.0 }
     } else {
-        let grid = Grid2 { width: w, height: h };
+        // A window reaching past the image is cut to it (callers check).
+        let win = settings.window.map_or(PixelWindow::full(w, h), |v| PixelWindow {
+            x0: v.x0.min(w),
+            x1: v.x1.clamp(v.x0.min(w), w),
+            y0: v.y0.min(h),
+            y1: v.y1.clamp(v.y0.min(h), h),
+        });
+        let grid = Grid2 { x0: win.x0, y0: win.y0, width: win.width(), height: win.height() };
         let stride = settings.row_stride.max(1);
         let (pixels, cost, counters) = run_tiles(&grid, accel, scene, settings.cost, progress, |x, y, th| {
             if y % stride != 0 {
@@ -156,7 +202,12 @@ fn render_with<I: Intersector>(
             }
             pixel(&shader, &filter, settings, x, y, th)
         });
-        RenderOutput { film: Film { width: w, height: h, pixels }, cost, counters, seconds: 0.0 }
+        RenderOutput {
+            film: Film { width: grid.width, height: grid.height, pixels },
+            cost,
+            counters,
+            seconds: 0.0,
+        }
     };
     RenderOutput { seconds: t0.elapsed().as_secs_f64(), ..out }
 }
@@ -221,12 +272,13 @@ fn run_tiles<I: Intersector>(
                 let mut costs = Vec::with_capacity(if want_cost { colors.capacity() } else { 0 });
                 for y in ty..y1 {
                     for x in tx..x1 {
+                        let (px, py) = (grid.x0 + x, grid.y0 + y);
                         if want_cost {
                             let work = th.counters.work();
-                            colors.push(f(x, y, th));
+                            colors.push(f(px, py, th));
                             costs.push(th.counters.work() - work);
                         } else {
-                            colors.push(f(x, y, th));
+                            colors.push(f(px, py, th));
                         }
                     }
                 }

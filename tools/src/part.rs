@@ -1,0 +1,271 @@
+//! Parts of an image for render farms, and merging them back.
+//!
+//! A part is an OpenEXR file whose data window is the part's pixels inside
+//! the full image's display window, in linear 32-bit float, with metadata:
+//! the digest of the parsed scene (SHA-256 of the scene as the writer prints
+//! it, so reformatting or re-commenting the file does not matter), every
+//! setting that changes pixels, and the part's ray counters. Because each
+//! pixel is a pure function of its coordinates and the settings, the merged
+//! image is the same, byte for byte, as one full render.
+//!
+//! Settings that cannot change pixels stay out of the signature: the thread
+//! count, and the accelerator (all of them return the same hit, ties broken
+//! by primitive id).
+
+use anyhow::{bail, Context, Result};
+use exr::prelude::{
+    read_first_rgba_layer_from_file, AttributeValue, IntegerBounds, LayerAttributes, Text, Vec2,
+};
+use nffkit_formats::image_io::{self, RgbImage};
+use nffkit_formats::{nff, Scene};
+use nffkit_tracer::camera::Camera;
+use nffkit_tracer::prepare::PrepareOptions;
+use nffkit_tracer::render::{PixelWindow, RenderSettings};
+use nffkit_tracer::stats::Counters;
+use sha2::{Digest, Sha256};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+const DIGEST: &str = "nffkit.sceneDigest";
+const SETTINGS: &str = "nffkit.settings";
+const COUNTERS: &str = "nffkit.counters";
+
+/// SHA-256 of the scene as the NFF writer prints it, in hex.
+pub fn scene_digest(scene: &Scene) -> String {
+    let text = nff::write(scene, Vec::new()).unwrap_or_default();
+    Sha256::digest(&text).iter().fold(String::new(), |mut s, b| {
+        let _ = write!(s, "{b:02x}");
+        s
+    })
+}
+
+/// Every setting that changes pixels, as one canonical line.
+pub fn settings_signature(settings: &RenderSettings, prepare: &PrepareOptions, camera: &Camera) -> String {
+    let (w, h) = camera.resolution();
+    let s = settings;
+    format!(
+        "size={w}x{h} depth={} spp={} sampler={} seed={} centre={} filter={} light-size={} light-shape={} \
+         min-weight={} aperture={} focus={} one-sided={}",
+        s.max_depth,
+        s.sampler.spp,
+        s.sampler.kind,
+        s.sampler.seed,
+        s.pixel_centre_only(camera),
+        s.filter,
+        s.light_size,
+        s.light_shape,
+        s.min_weight,
+        prepare.aperture,
+        prepare.focus.map_or("from-at".to_string(), |f| f.to_string()),
+        prepare.one_sided,
+    )
+}
+
+/// What a part file says about itself.
+#[derive(Debug, Clone)]
+pub struct Part {
+    /// Where it was read from.
+    pub path: PathBuf,
+    /// The full image's size.
+    pub full: (u32, u32),
+    /// The part's pixels in the full image.
+    pub window: PixelWindow,
+    /// [`scene_digest`] of its scene.
+    pub digest: String,
+    /// [`settings_signature`] of its render.
+    pub settings: String,
+    /// Its ray counters.
+    pub counters: Counters,
+    /// Its pixels, row-major.
+    pub pixels: Vec<[f32; 3]>,
+}
+
+fn text(s: &str) -> Result<Text> {
+    Text::new_or_none(s).with_context(|| format!("`{s}` cannot be stored in an EXR attribute"))
+}
+
+fn counters_line(c: &Counters) -> String {
+    let tests: Vec<String> = c.tests.iter().map(|(k, n)| format!("{}={n}", <&str>::from(k))).collect();
+    format!(
+        "eye={} reflected={} refracted={} shadow={} visits={} mailbox={} {}",
+        c.eye,
+        c.reflected,
+        c.refracted,
+        c.shadow,
+        c.visits,
+        c.mailbox_hits,
+        tests.join(" ")
+    )
+}
+
+fn parse_counters(s: &str) -> Option<Counters> {
+    let mut c = Counters::default();
+    for field in s.split_whitespace() {
+        let (key, value) = field.split_once('=')?;
+        let value: u64 = value.parse().ok()?;
+        match key {
+            "eye" => c.eye = value,
+            "reflected" => c.reflected = value,
+            "refracted" => c.refracted = value,
+            "shadow" => c.shadow = value,
+            "visits" => c.visits = value,
+            "mailbox" => c.mailbox_hits = value,
+            kind => {
+                let k = c.tests.iter().map(|(k, _)| k).find(|k| <&str>::from(*k) == kind)?;
+                c.tests[k] = value;
+            }
+        }
+    }
+    Some(c)
+}
+
+/// Encode a part as EXR bytes: `image` holds the window's pixels.
+pub fn encode_part(
+    image: &RgbImage,
+    full: (u32, u32),
+    window: PixelWindow,
+    digest: &str,
+    settings: &str,
+    counters: &Counters,
+) -> Result<Vec<u8>> {
+    let mut attrs = LayerAttributes::named(text("nffkit part")?);
+    attrs.layer_position = Vec2(window.x0 as i32, window.y0 as i32);
+    attrs.other.insert(text(DIGEST)?, AttributeValue::Text(text(digest)?));
+    attrs.other.insert(text(SETTINGS)?, AttributeValue::Text(text(settings)?));
+    attrs.other.insert(text(COUNTERS)?, AttributeValue::Text(text(&counters_line(counters))?));
+    let display = IntegerBounds::new(Vec2(0, 0), Vec2(full.0 as usize, full.1 as usize));
+    image_io::encode_exr(image, attrs, display).context("encoding the EXR part")
+}
+
+/// Read a part written by `render --crop/--pixel-bounds/--tile -o X.exr`.
+pub fn read_part(path: &Path) -> Result<Part> {
+    let image = read_first_rgba_layer_from_file(
+        path,
+        |size, _| (size.width(), vec![[0f32; 3]; size.area()]),
+        |(w, px), pos, (r, g, b, _a): (f32, f32, f32, f32)| px[pos.y() * *w + pos.x()] = [r, g, b],
+    )
+    .with_context(|| format!("{}: not a readable OpenEXR file", path.display()))?;
+    let name = path.display();
+    let attrs = &image.layer_data.attributes;
+    let get = |key: &str| {
+        match attrs.other.get(&Text::from(key)) {
+        Some(AttributeValue::Text(t)) => Ok(t.to_string()),
+        _ => bail!("{name}: not an nffkit part (no {key} attribute); render parts with --crop, --pixel-bounds or --tile into .exr"),
+    }
+    };
+    let display = image.attributes.display_window;
+    let (pos, size) = (attrs.layer_position, image.layer_data.size);
+    if display.position != Vec2(0, 0) || pos.x() < 0 || pos.y() < 0 {
+        bail!("{name}: the part's windows do not start at 0,0 as nffkit writes them");
+    }
+    let (x0, y0) = (pos.x() as u32, pos.y() as u32);
+    let window = PixelWindow { x0, x1: x0 + size.width() as u32, y0, y1: y0 + size.height() as u32 };
+    let full = (display.size.width() as u32, display.size.height() as u32);
+    if window.x1 > full.0 || window.y1 > full.1 {
+        bail!("{name}: the part's pixels reach outside its {}x{} image", full.0, full.1);
+    }
+    let counters = get(COUNTERS)?;
+    Ok(Part {
+        path: path.to_path_buf(),
+        full,
+        window,
+        digest: get(DIGEST)?,
+        settings: get(SETTINGS)?,
+        counters: parse_counters(&counters)
+            .with_context(|| format!("{name}: unreadable counters `{counters}`"))?,
+        pixels: image.layer_data.channel_data.pixels.1,
+    })
+}
+
+/// Parts merged into the full image.
+pub struct Merged {
+    /// The image.
+    pub image: RgbImage,
+    /// The parts' counters, summed.
+    pub counters: Counters,
+}
+
+/// Check that `parts` come from one scene and one set of settings and cover
+/// the image exactly once, then stitch them.
+pub fn merge(parts: &[Part]) -> Result<Merged> {
+    let Some(first) = parts.first() else { bail!("no parts to merge") };
+    let (w, h) = first.full;
+    for p in &parts[1..] {
+        let (a, b) = (first.path.display(), p.path.display());
+        if p.digest != first.digest {
+            bail!(
+                "{b} comes from another scene than {a} (scene digests {} and {})",
+                &p.digest[..12],
+                &first.digest[..12]
+            );
+        }
+        if p.settings != first.settings {
+            bail!(
+                "{b} was rendered with other settings than {a}:\n  {a}: {}\n  {b}: {}",
+                first.settings,
+                p.settings
+            );
+        }
+        if p.full != first.full {
+            bail!("{b} is part of a {}x{} image, {a} of a {w}x{h} one", p.full.0, p.full.1);
+        }
+    }
+    let mut owner: Vec<u32> = vec![u32::MAX; w as usize * h as usize];
+    let mut image = RgbImage { width: w, height: h, pixels: vec![[0.0; 3]; owner.len()] };
+    let mut counters = Counters::default();
+    for (i, p) in parts.iter().enumerate() {
+        let pw = p.window.width() as usize;
+        for y in p.window.y0..p.window.y1 {
+            for x in p.window.x0..p.window.x1 {
+                let at = y as usize * w as usize + x as usize;
+                if owner[at] != u32::MAX {
+                    bail!(
+                        "{} and {} overlap: both cover pixel ({x}, {y})",
+                        parts[owner[at] as usize].path.display(),
+                        p.path.display()
+                    );
+                }
+                owner[at] = i as u32;
+                image.pixels[at] = p.pixels[(y - p.window.y0) as usize * pw + (x - p.window.x0) as usize];
+            }
+        }
+        counters += p.counters;
+    }
+    let missing = owner.iter().filter(|&&o| o == u32::MAX).count();
+    if missing > 0 {
+        let first_gap = owner.iter().position(|&o| o == u32::MAX).unwrap_or(0);
+        let rows: Vec<u32> =
+            (0..h).filter(|&y| owner[(y * w) as usize..((y + 1) * w) as usize].contains(&u32::MAX)).collect();
+        bail!(
+            "the parts leave {missing} pixels of the {w}x{h} image uncovered, the first at ({}, {}); rows {}..={} are incomplete",
+            first_gap as u32 % w,
+            first_gap as u32 / w,
+            rows[0],
+            rows[rows.len() - 1]
+        );
+    }
+    Ok(Merged { image, counters })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counters_round_trip_through_their_attribute() {
+        let mut c = Counters {
+            eye: 5,
+            reflected: 4,
+            refracted: 3,
+            shadow: 2,
+            visits: 9,
+            mailbox_hits: 1,
+            ..Default::default()
+        };
+        for (i, (k, _)) in Counters::default().tests.iter().enumerate() {
+            c.tests[k] = 10 + i as u64;
+        }
+        assert_eq!(parse_counters(&counters_line(&c)), Some(c));
+        assert_eq!(parse_counters("eye=1 comet=2"), None);
+    }
+}
