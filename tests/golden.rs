@@ -25,7 +25,7 @@ fn every_case_matches_its_golden_image() {
     let catalogue = load_catalogue(&scenes).unwrap();
     let mut failures = Vec::new();
     for case in &catalogue.case {
-        let checked = check_case(case, &scenes)
+        let checked = check_case(case, &scenes, 2)
             .unwrap_or_else(|e| panic!("case {} failed to render: {e:#}", case.name));
         if let Some(why) = &checked.failure {
             let images = write_failure_images(&checked, &out_dir()).unwrap();

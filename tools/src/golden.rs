@@ -236,8 +236,8 @@ pub fn read_png(path: &Path) -> Result<RgbImage> {
 }
 
 /// Render a case and compare it with its golden image.
-pub fn check_case(case: &Case, scenes: &Path) -> Result<Checked> {
-    let actual = render_case(case, scenes, 2)?;
+pub fn check_case(case: &Case, scenes: &Path, threads: usize) -> Result<Checked> {
+    let actual = render_case(case, scenes, threads)?;
     let golden = scenes.join("golden").join(format!("{}.png", case.golden_name()));
     let expected = if golden.exists() { Some(read_png(&golden)?) } else { None };
     let (diff, flip_map, failure) = match &expected {

@@ -11,6 +11,7 @@ use nffkit_formats::Scene;
 use nffkit_tracer::accel::{AccelKind, AccelOptions};
 use nffkit_tracer::prepare::{prepare, PrepareOptions};
 use nffkit_tracer::render::{render, RenderSettings};
+use rayon::prelude::*;
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
@@ -99,8 +100,43 @@ fn cell(t: &Timing) -> String {
     }
 }
 
+/// Time every cell: one after another on all cores (`jobs` = 1, the
+/// figures to quote), or `jobs` cells at once, each on one thread (every
+/// core busy, per-thread figures; the cells then compete for memory
+/// bandwidth, so times are a little slower than alone).
+fn time_all(
+    scenes: &[Scene],
+    size: u32,
+    cap: f64,
+    jobs: usize,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<Vec<Timing>> {
+    const KINDS: [AccelKind; 3] = [AccelKind::None, AccelKind::Grid, AccelKind::Bvh];
+    let cells: Vec<(usize, AccelKind)> = (0..scenes.len()).flat_map(|i| KINDS.map(|k| (i, k))).collect();
+    let one = |&(i, kind): &(usize, AccelKind)| {
+        progress(&format!("{} with {kind}", CASES[i].name));
+        time(&scenes[i], kind, size, cap)
+    };
+    if jobs <= 1 {
+        return cells.iter().map(one).collect();
+    }
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(jobs).build()?;
+    pool.install(|| {
+        cells
+            .par_iter()
+            .map(|cell| rayon::ThreadPoolBuilder::new().num_threads(1).build()?.install(|| one(cell)))
+            .collect()
+    })
+}
+
 /// Run every case and format the markdown table.
-pub fn table(spd_dir: &Path, size: u32, cap: f64, progress: &dyn Fn(&str)) -> Result<String> {
+pub fn table(
+    spd_dir: &Path,
+    size: u32,
+    cap: f64,
+    jobs: usize,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<String> {
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -108,13 +144,9 @@ pub fn table(spd_dir: &Path, size: u32, cap: f64, progress: &dyn Fn(&str)) -> Re
     );
     let _ = writeln!(out, "|---|---:|---:|---:|---:|---:|---:|---:|---:|");
     let mut any_estimate = false;
-    for case in &CASES {
-        let scene = load(case, spd_dir)?;
-        let mut t = Vec::new();
-        for kind in [AccelKind::None, AccelKind::Grid, AccelKind::Bvh] {
-            progress(&format!("{} with {kind:?}", case.name));
-            t.push(time(&scene, kind, size, cap)?);
-        }
+    let scenes = CASES.iter().map(|c| load(c, spd_dir)).collect::<Result<Vec<_>>>()?;
+    let timings = time_all(&scenes, size, cap, jobs, progress)?;
+    for ((case, scene), t) in CASES.iter().zip(&scenes).zip(timings.chunks(3)) {
         any_estimate |= t[0].estimated;
         let _ = writeln!(
             out,
@@ -135,8 +167,12 @@ pub fn table(spd_dir: &Path, size: u32, cap: f64, progress: &dyn Fn(&str)) -> Re
     }
     let _ = writeln!(
         out,
-        "\n{size}x{size}, depth 6, 1 sample per pixel, {} threads; times are whole (build + render).",
-        rayon::current_num_threads()
+        "\n{size}x{size}, depth 6, 1 sample per pixel, {}; times are whole (build + render).",
+        if jobs <= 1 {
+            format!("each cell on {} threads", rayon::current_num_threads())
+        } else {
+            format!("{jobs} cells at once, each on one thread")
+        }
     );
     if any_estimate {
         let _ = writeln!(

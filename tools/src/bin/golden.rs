@@ -4,11 +4,14 @@ use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
 use nffkit_formats::image_io;
 use nffkit_tools::cli_util;
+use nffkit_tools::golden::Case;
 use nffkit_tools::golden::{
     check_case, compare, find_scenes_dir, html_report, load_catalogue, read_png, render_case,
 };
+use rayon::prelude::*;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Check or regenerate the golden images of the scene catalogue.
 ///
@@ -21,8 +24,12 @@ struct Args {
     /// The scenes folder holding catalogue.toml and golden/. Default: the
     /// `scenes/` folder of the current directory or the nearest folder
     /// above it that has one.
-    #[arg(long, value_name = "DIR")]
+    #[arg(long, global = true, value_name = "DIR")]
     scenes: Option<PathBuf>,
+    /// Cases rendered at once, each on one thread (default: all cores).
+    /// Images do not depend on it.
+    #[arg(long, short, global = true, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    jobs: Option<u32>,
     #[command(subcommand)]
     command: Command,
 }
@@ -47,6 +54,10 @@ fn run(a: &Args) -> Result<bool> {
         None => find_scenes_dir(&std::env::current_dir().context("reading the current directory")?)?,
     };
     let catalogue = load_catalogue(&scenes)?;
+    let jobs =
+        a.jobs.map_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()), |j| j as usize);
+    let pool =
+        rayon::ThreadPoolBuilder::new().num_threads(jobs).build().context("starting worker threads")?;
     match &a.command {
         Command::Update { names } => {
             for n in names {
@@ -55,9 +66,12 @@ fn run(a: &Args) -> Result<bool> {
                 }
             }
             // Render everything first: a case that fails to render writes nothing.
+            let cases: Vec<&Case> =
+                catalogue.case.iter().filter(|c| names.is_empty() || names.contains(&c.name)).collect();
+            let images = in_parallel(&pool, &cases, |case| render_case(case, &scenes, 1), |_| "rendered");
             let mut rendered = Vec::new();
-            for case in catalogue.case.iter().filter(|c| names.is_empty() || names.contains(&c.name)) {
-                rendered.push((case, render_case(case, &scenes, 2)?));
+            for (case, img) in cases.iter().zip(images) {
+                rendered.push((case, img?));
             }
             for (case, img) in rendered {
                 let path = scenes.join("golden").join(format!("{}.png", case.golden_name()));
@@ -80,10 +94,23 @@ fn run(a: &Args) -> Result<bool> {
             Ok(true)
         }
         Command::Check { report } => {
+            let cases: Vec<&Case> = catalogue.case.iter().collect();
+            let checked = in_parallel(
+                &pool,
+                &cases,
+                |case| check_case(case, &scenes, 1),
+                |c| {
+                    if c.failure.is_some() {
+                        "FAIL"
+                    } else {
+                        "pass"
+                    }
+                },
+            );
             let mut all = Vec::new();
-            for case in &catalogue.case {
-                let c = check_case(case, &scenes)?;
-                println!("{:<28} {}", case.name, c.failure.as_deref().unwrap_or("pass"));
+            for c in checked {
+                let c = c?;
+                println!("{:<28} {}", c.case.name, c.failure.as_deref().unwrap_or("pass"));
                 all.push(c);
             }
             let ok = all.iter().all(|c| c.failure.is_none());
@@ -91,6 +118,29 @@ fn run(a: &Args) -> Result<bool> {
             Ok(ok)
         }
     }
+}
+
+/// Run `f` on every case on `pool`, printing a progress line to stderr as
+/// each finishes; results come back in the cases' order.
+fn in_parallel<T: Send>(
+    pool: &rayon::ThreadPool,
+    cases: &[&Case],
+    f: impl Fn(&Case) -> Result<T> + Sync,
+    status: impl Fn(&T) -> &'static str + Sync,
+) -> Vec<Result<T>> {
+    let done = AtomicUsize::new(0);
+    pool.install(|| {
+        cases
+            .par_iter()
+            .map(|case| {
+                let r = f(case);
+                let n = done.fetch_add(1, Ordering::Relaxed) + 1;
+                let s = r.as_ref().map_or("error", &status);
+                eprintln!("[{n:>3}/{}] {:<28} {s}", cases.len(), case.name);
+                r
+            })
+            .collect()
+    })
 }
 
 fn main() -> ExitCode {

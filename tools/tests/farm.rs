@@ -1,0 +1,229 @@
+//! Render parts: any crop, pixel range or tile equals the same pixels of the
+//! full render, for every sampler, filter, light size and aperture; tiles
+//! rendered by concurrent processes merge to the full render's bytes; merge
+//! refuses parts that do not belong together.
+
+use nffkit_tools::render_args::{render_config_from, PartSpec};
+use nffkit_tracer::film::Film;
+use nffkit_tracer::prepare::prepare;
+use nffkit_tracer::render::{render, PixelWindow};
+use std::path::Path;
+use std::process::{Command, Output};
+
+const RENDER: &str = env!("CARGO_BIN_EXE_render");
+const NFFMERGE: &str = env!("CARGO_BIN_EXE_nffmerge");
+
+/// Every primitive kind (sphere, cone, polygon, patch), a mirror and glass,
+/// two lights.
+const SCENE: &str = "\
+v
+from 0 -6 2
+at 0 0 0.5
+up 0 0 1
+angle 40
+hither 0.01
+resolution 48 40
+b 0.1 0.2 0.4
+l 4 -4 6
+l -3 -2 5 0.6 0.6 0.5
+f 0.9 0.8 0.6 0.7 0.3 20 0 1
+p 4
+-4 -4 0
+4 -4 0
+4 4 0
+-4 4 0
+f 1 0.3 0.2 0.6 0.4 30 0 1
+s -1 0 1 0.8
+f 0.8 0.9 1 0.1 0.2 50 0.8 1.5
+s 1.2 -0.5 0.8 0.6
+f 0.3 0.9 0.3 0.8 0.1 10 0 1
+c 0 1.5 0 0.5 0 1.5 2 0.1
+pp 3
+-2 2 0.1 0 0 1
+-1 2 1.5 0 -0.5 1
+-3 2 1.5 0 -0.5 1
+";
+
+fn scene() -> nffkit_formats::Scene {
+    nffkit_formats::nff::parse(SCENE.as_bytes(), &Default::default()).unwrap().scene
+}
+
+/// Render `args` in-process; `window` restricts it to a part.
+fn film(args: &[&str], part: Option<PartSpec>) -> (Film, Option<PixelWindow>) {
+    let cfg = render_config_from(args.iter().copied()).unwrap();
+    let prepared = prepare(&scene(), &cfg.prepare).unwrap();
+    let (w, h) = prepared.camera.resolution();
+    let mut settings = cfg.settings.clone();
+    settings.window = part.map(|p| p.window(w, h).unwrap());
+    (render(&prepared, &settings, &|_, _| {}).film, settings.window)
+}
+
+fn assert_part_matches(full: &Film, part: &Film, win: PixelWindow, what: &str) {
+    assert_eq!((part.width, part.height), (win.width(), win.height()), "{what}");
+    for y in win.y0..win.y1 {
+        for x in win.x0..win.x1 {
+            let (a, b) = (full.get(x, y), part.get(x - win.x0, y - win.y0));
+            assert!(a.to_array() == b.to_array(), "{what}: pixel ({x}, {y}) {a} vs {b}");
+        }
+    }
+}
+
+#[test]
+fn every_part_equals_the_same_pixels_of_the_full_render() {
+    let settings: [&[&str]; 5] = [
+        &["--spp", "16", "--light-size", "0.5", "--aperture", "0.1", "--focus", "5"],
+        &["--spp", "4", "--sampler", "random", "--filter", "mitchell"],
+        &[
+            "--spp",
+            "4",
+            "--sampler",
+            "sobol",
+            "--filter",
+            "gaussian",
+            "--light-shape",
+            "disk",
+            "--light-size",
+            "1",
+        ],
+        &["--spp", "9", "--sampler", "n-rooks", "--filter", "tent"],
+        &[],
+    ];
+    let parts = [
+        PartSpec::Tile { k: 0, n: 3 },
+        PartSpec::Tile { k: 2, n: 3 },
+        PartSpec::Crop([0.1, 0.65, 0.3, 0.9]),
+        PartSpec::Pixels([17, 18, 23, 24]),
+        PartSpec::Pixels([0, 48, 39, 40]),
+    ];
+    for args in settings {
+        let (full, _) = film(args, None);
+        for part in parts {
+            let (p, win) = film(args, Some(part));
+            assert_part_matches(&full, &p, win.unwrap(), &format!("{args:?} {part:?}"));
+        }
+    }
+}
+
+#[test]
+fn tiles_cover_the_image_once_evenly_or_not() {
+    for n in [1, 3, 4, 7] {
+        let (w, h) = (48, 120);
+        let mut covered = vec![0u32; h as usize];
+        for k in 0..n {
+            let win = PartSpec::Tile { k, n }.window(w, h).unwrap();
+            assert_eq!((win.x0, win.x1), (0, w));
+            assert!(win.y0 % 16 == 0, "tiles are whole bands of 16 rows");
+            for y in win.y0..win.y1 {
+                covered[y as usize] += 1;
+            }
+        }
+        assert!(covered.iter().all(|&c| c == 1), "{n} tiles: {covered:?}");
+    }
+    let e = PartSpec::Tile { k: 0, n: 9 }.window(48, 120).unwrap_err().to_string();
+    assert!(e.contains("only 8 bands"), "{e}");
+    let e = PartSpec::Pixels([0, 49, 0, 1]).window(48, 40).unwrap_err().to_string();
+    assert!(e.contains("reaches past the 48x40 image"), "{e}");
+}
+
+fn run(bin: &str, dir: &Path, args: &[&str]) -> Output {
+    Command::new(bin).args(args).current_dir(dir).output().unwrap()
+}
+
+fn ok(o: &Output) -> String {
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn err(o: &Output) -> String {
+    assert!(!o.status.success(), "expected a failure");
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+const SETTINGS: [&str; 7] = ["--spp", "16", "--light-size", "0.5", "--aperture", "0.1", "-q"];
+
+#[test]
+fn tiles_from_concurrent_processes_merge_to_the_full_render_byte_for_byte() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("s.nff"), SCENE).unwrap();
+    // Four render processes at once, as a farm would run them.
+    let children: Vec<_> = (0..4)
+        .map(|k| {
+            let (tile, out) = (format!("{k}/4"), format!("t{k}.exr"));
+            let args =
+                [&["s.nff", "--tile", &tile, "-o", &out, "--width", "64", "--height", "64"][..], &SETTINGS]
+                    .concat();
+            Command::new(RENDER).args(args).current_dir(d).spawn().unwrap()
+        })
+        .collect();
+    for mut c in children {
+        assert!(c.wait().unwrap().success());
+    }
+    for ext in ["png", "exr"] {
+        let full = format!("full.{ext}");
+        let merged = format!("merged.{ext}");
+        ok(&run(
+            RENDER,
+            d,
+            &[&["s.nff", "-o", &full, "--width", "64", "--height", "64"][..], &SETTINGS].concat(),
+        ));
+        let stats =
+            ok(&run(NFFMERGE, d, &["t0.exr", "t1.exr", "t2.exr", "t3.exr", "-o", &merged, "--stats"]));
+        assert!(stats.contains("eye 65536,"), "16 spp x 64 x 64 eye rays summed: {stats}");
+        let (a, b) = (std::fs::read(d.join(&full)).unwrap(), std::fs::read(d.join(&merged)).unwrap());
+        assert!(a == b, "merged {ext} differs from the full render");
+    }
+}
+
+#[test]
+fn merge_refuses_parts_that_do_not_belong_together() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("s.nff"), SCENE).unwrap();
+    // The same scene reformatted (comments, spacing) has the same digest.
+    let reformatted = format!("# reformatted\n{}", SCENE.replace(' ', "  "));
+    std::fs::write(d.join("same.nff"), reformatted).unwrap();
+    std::fs::write(d.join("other.nff"), SCENE.replace("s -1 0 1 0.8", "s -1 0 1 0.7")).unwrap();
+    let part = |scene: &str, tile: &str, out: &str, extra: &[&str]| {
+        ok(&run(RENDER, d, &[&[scene, "--tile", tile, "-o", out, "-q"][..], extra].concat()));
+    };
+    part("s.nff", "0/2", "a0.exr", &[]);
+    part("same.nff", "1/2", "a1.exr", &[]);
+    part("other.nff", "1/2", "b1.exr", &[]);
+    part("s.nff", "1/2", "c1.exr", &["--spp", "4"]);
+    ok(&run(NFFMERGE, d, &["a0.exr", "a1.exr", "-o", "ok.png"]));
+    let e = err(&run(NFFMERGE, d, &["a0.exr", "b1.exr", "-o", "x.png"]));
+    assert!(e.contains("b1.exr comes from another scene than a0.exr"), "{e}");
+    let e = err(&run(NFFMERGE, d, &["a0.exr", "c1.exr", "-o", "x.png"]));
+    assert!(e.contains("other settings") && e.contains("spp=4"), "{e}");
+    let e = err(&run(NFFMERGE, d, &["a0.exr", "a0.exr", "a1.exr", "-o", "x.png"]));
+    assert!(e.contains("overlap: both cover pixel (0, 0)"), "{e}");
+    let e = err(&run(NFFMERGE, d, &["a0.exr", "-o", "x.png"]));
+    assert!(e.contains("uncovered, the first at (0, 16)"), "{e}");
+    std::fs::write(d.join("plain.exr"), b"not an exr").unwrap();
+    let e = err(&run(NFFMERGE, d, &["plain.exr", "-o", "x.png"]));
+    assert!(e.contains("plain.exr: not a readable OpenEXR file"), "{e}");
+    assert!(!d.join("x.png").exists(), "a refused merge writes nothing");
+}
+
+#[test]
+fn bad_part_options_get_clear_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("s.nff"), SCENE).unwrap();
+    for (args, says) in [
+        (&["--tile", "4/4"][..], "K counts from 0 to N-1"),
+        (&["--tile", "two"], "expected K/N"),
+        (&["--tile", "0/0"], "K counts from 0"),
+        (&["--crop", "0.5,0.2,0,1"], "0 <= x0 < x1 <= 1"),
+        (&["--crop", "0,1,0"], "four comma-separated numbers"),
+        (&["--pixel-bounds", "0,100,0,10"], "reaches past the 48x40 image"),
+        (&["--tile", "0/2", "--crop", "0,1,0,1"], "cannot be used with"),
+        (&["--tile", "0/9"], "only 3 bands"),
+        (&["--tile", "0/2", "--spd-stats"], "--spd-stats"),
+    ] {
+        let e = err(&run(RENDER, d, &[&["s.nff", "-o", "x.exr"][..], args].concat()));
+        assert!(e.contains(says), "{args:?}: {e}");
+        assert!(!d.join("x.exr").exists());
+    }
+}
