@@ -15,6 +15,10 @@ fn scenes_dir() -> PathBuf {
     golden::find_scenes_dir(Path::new(env!("CARGO_MANIFEST_DIR"))).unwrap()
 }
 
+fn shown(p: &Option<PathBuf>) -> String {
+    p.as_ref().map_or("(none)".into(), |p| p.display().to_string())
+}
+
 fn out_dir() -> PathBuf {
     PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../target/golden"))
 }
@@ -33,9 +37,9 @@ fn every_case_matches_its_golden_image() {
                 "{}: {why}\n  actual:     {}\n  expected:   {}\n  difference: {}\n  FLIP error: {}",
                 case.name,
                 images.actual.display(),
-                images.expected.display(),
-                images.diff.display(),
-                images.flip.display()
+                shown(&images.expected),
+                shown(&images.diff),
+                shown(&images.flip)
             ));
         }
     }

@@ -270,41 +270,37 @@ pub fn diff_image(a: &RgbImage, b: &RgbImage) -> RgbImage {
     RgbImage { width: a.width, height: a.height, pixels }
 }
 
-/// The images written for one case.
+/// The images written for one case; `None` where there was nothing to
+/// write (no golden, or a golden of another size).
 pub struct CaseImages {
     /// What the renderer made now.
     pub actual: PathBuf,
     /// The golden image.
-    pub expected: PathBuf,
+    pub expected: Option<PathBuf>,
     /// |actual − expected| ×4, inferno scale.
-    pub diff: PathBuf,
+    pub diff: Option<PathBuf>,
     /// FLIP's per-pixel error, magma scale.
-    pub flip: PathBuf,
+    pub flip: Option<PathBuf>,
 }
 
 /// Write actual, expected, difference and FLIP error images of a case into
-/// `dir` (the last three when a golden of the same size exists).
+/// `dir` (the last two when a golden of the same size exists).
 pub fn write_failure_images(c: &Checked, dir: &Path) -> Result<CaseImages> {
     std::fs::create_dir_all(dir)?;
     let name = &c.case.name;
-    let path = |kind: &str| dir.join(format!("{name}.{kind}.png"));
-    let paths = CaseImages {
-        actual: path("actual"),
-        expected: path("expected"),
-        diff: path("diff"),
-        flip: path("flip"),
+    let save = |kind: &str, img: &RgbImage| -> Result<PathBuf> {
+        let path = dir.join(format!("{name}.{kind}.png"));
+        image_io::save(img, &path, false)?;
+        Ok(path)
     };
-    image_io::save(&c.actual, &paths.actual, false)?;
-    if let Some(e) = &c.expected {
-        image_io::save(e, &paths.expected, false)?;
-        if (e.width, e.height) == (c.actual.width, c.actual.height) {
-            image_io::save(&diff_image(&c.actual, e), &paths.diff, false)?;
-        }
-    }
-    if let Some(map) = &c.flip_map {
-        image_io::save(map, &paths.flip, false)?;
-    }
-    Ok(paths)
+    let actual = save("actual", &c.actual)?;
+    let expected = c.expected.as_ref().map(|e| save("expected", e)).transpose()?;
+    // The FLIP map exists exactly when the golden has the actual's size.
+    let (diff, flip) = match (&c.expected, &c.flip_map) {
+        (Some(e), Some(map)) => (Some(save("diff", &diff_image(&c.actual, e))?), Some(save("flip", map)?)),
+        _ => (None, None),
+    };
+    Ok(CaseImages { actual, expected, diff, flip })
 }
 
 /// The HTML review page: every case with expected, actual and difference.
@@ -313,27 +309,23 @@ pub fn html_report(checked: &[Checked], dir: &Path) -> Result<PathBuf> {
     let mut rows = String::new();
     for c in checked {
         let images = write_failure_images(c, dir)?;
-        let file = |p: &Path| p.file_name().unwrap().to_string_lossy().into_owned();
         let status = match &c.failure {
             None => "<td class=ok>pass</td>".to_string(),
             Some(f) => format!("<td class=bad>FAIL: {f}</td>"),
         };
         let figures =
             c.diff.map_or("-".into(), |d| format!("bad {:.3}%, mean FLIP {:.5}", d.bad * 100.0, d.flip));
-        let img = |p: &Path| {
-            if p.exists() {
-                format!("<td><img src=\"{}\"></td>", file(p))
-            } else {
-                "<td>-</td>".into()
-            }
+        let img = |p: Option<&PathBuf>| match p.and_then(|p| p.file_name()) {
+            Some(f) => format!("<td><img src=\"{}\"></td>", f.to_string_lossy()),
+            None => "<td>-</td>".into(),
         };
         rows += &format!(
             "<tr><td>{}</td>{status}<td>{figures}</td>{}{}{}{}</tr>\n",
             c.case.name,
-            img(&images.expected),
-            img(&images.actual),
-            img(&images.diff),
-            img(&images.flip)
+            img(images.expected.as_ref()),
+            img(Some(&images.actual)),
+            img(images.diff.as_ref()),
+            img(images.flip.as_ref())
         );
     }
     let html = format!(

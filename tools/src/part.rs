@@ -158,12 +158,18 @@ pub fn read_part(path: &Path) -> Result<Part> {
     if display.position != Vec2(0, 0) || pos.x() < 0 || pos.y() < 0 {
         bail!("{name}: the part's windows do not start at 0,0 as nffkit writes them");
     }
-    let (x0, y0) = (pos.x() as u32, pos.y() as u32);
-    let window = PixelWindow { x0, x1: x0 + size.width() as u32, y0, y1: y0 + size.height() as u32 };
-    let full = (display.size.width() as u32, display.size.height() as u32);
-    if window.x1 > full.0 || window.y1 > full.1 {
-        bail!("{name}: the part's pixels reach outside its {}x{} image", full.0, full.1);
+    let (fw, fh) = (display.size.width() as u64, display.size.height() as u64);
+    // The same bound render sets: a merged film of at most 2^27 pixels.
+    if fw == 0 || fh == 0 || fw > 65536 || fh > 65536 || fw * fh > 1 << 27 {
+        bail!("{name}: a {fw}x{fh} image is larger than nffkit renders");
     }
+    let (x0, y0) = (pos.x() as u64, pos.y() as u64);
+    let (x1, y1) = (x0 + size.width() as u64, y0 + size.height() as u64);
+    if x1 > fw || y1 > fh {
+        bail!("{name}: the part's pixels reach outside its {fw}x{fh} image");
+    }
+    let window = PixelWindow { x0: x0 as u32, x1: x1 as u32, y0: y0 as u32, y1: y1 as u32 };
+    let full = (fw as u32, fh as u32);
     let counters = get(COUNTERS)?;
     Ok(Part {
         path: path.to_path_buf(),
@@ -193,10 +199,11 @@ pub fn merge(parts: &[Part]) -> Result<Merged> {
     for p in &parts[1..] {
         let (a, b) = (first.path.display(), p.path.display());
         if p.digest != first.digest {
+            let short = |d: &str| d.chars().take(12).collect::<String>();
             bail!(
                 "{b} comes from another scene than {a} (scene digests {} and {})",
-                &p.digest[..12],
-                &first.digest[..12]
+                short(&p.digest),
+                short(&first.digest)
             );
         }
         if p.settings != first.settings {

@@ -188,14 +188,19 @@ impl PartSpec {
             }
         };
         if win.width() == 0 || win.height() == 0 {
-            bail!("--crop {self:?} covers no whole pixel of the {width}x{height} image");
+            let flag = match *self {
+                PartSpec::Crop([x0, x1, y0, y1]) => format!("--crop {x0},{x1},{y0},{y1}"),
+                PartSpec::Pixels([x0, x1, y0, y1]) => format!("--pixel-bounds {x0},{x1},{y0},{y1}"),
+                PartSpec::Tile { k, n } => format!("--tile {k}/{n}"),
+            };
+            bail!("{flag} covers no whole pixel of the {width}x{height} image");
         }
         Ok(win)
     }
 }
 
 /// Rows of one band of render tiles (the renderer's tile side).
-const TILE_ROWS: u32 = 16;
+const TILE_ROWS: u32 = nffkit_tracer::render::TILE;
 
 /// What `render` is asked to do, validated.
 #[derive(Debug, Clone)]
@@ -245,12 +250,11 @@ pub struct RenderConfig {
 impl RenderArgs {
     /// Validate everything and say what to do.
     pub fn command(&self) -> Result<Command> {
-        let parse = ParseOptions { lenient: self.lenient, fragment: self.fragment };
         if self.check {
             if self.files.is_empty() {
                 bail!("--check needs at least one file");
             }
-            return Ok(Command::Check { files: self.files.clone(), parse });
+            return Ok(Command::Check { files: self.files.clone(), parse: self.parse_options() });
         }
         Ok(Command::Render(Box::new(self.render_config()?)))
     }
@@ -297,7 +301,7 @@ impl RenderArgs {
             input: self.files.first().cloned(),
             output,
             output_kind,
-            parse: ParseOptions { lenient: self.lenient, fragment: self.fragment },
+            parse: self.parse_options(),
             prepare,
             settings,
             threads: self.threads.unwrap_or(0) as usize,
@@ -308,6 +312,10 @@ impl RenderArgs {
             notes: note.into_iter().map(|m| format!("--spp: {m}")).collect(),
             part: self.part(),
         })
+    }
+
+    fn parse_options(&self) -> ParseOptions {
+        ParseOptions { lenient: self.lenient, fragment: self.fragment }
     }
 
     fn part(&self) -> Option<PartSpec> {

@@ -5,6 +5,7 @@
 use nffkit_formats::Scene;
 use nffkit_tracer::prepare::RenderScene;
 use nffkit_tracer::render::{RenderOutput, RenderSettings};
+use nffkit_tracer::stats::Counters;
 use std::fmt::Write as _;
 
 /// Wall times measured around the render.
@@ -38,9 +39,6 @@ pub fn statistics(
     let info = prepared.accel.info();
     let (w, h) = prepared.camera.resolution();
     let rays = c.rays();
-    let by_kind = |f: &dyn Fn(&str, u64) -> String| {
-        c.tests.iter().map(|(k, n)| f(k.into(), n)).collect::<Vec<_>>().join(", ")
-    };
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -65,6 +63,24 @@ pub fn statistics(
         info.bytes as f64 / 1e6,
         info.build_seconds * 1e3
     );
+    s += &counters(c);
+    let _ = writeln!(
+        s,
+        "time         parse {:.3} s, render {:.3} s ({:.2} Mrays/s), total {:.3} s",
+        times.parse,
+        out.seconds,
+        rays as f64 / out.seconds.max(1e-9) / 1e6,
+        times.total
+    );
+    s
+}
+
+/// The rays, tests and traversal lines of the block: also what `nffmerge
+/// --stats` prints for the summed counters of its parts.
+pub fn counters(c: &Counters) -> String {
+    let rays = c.rays();
+    let by_kind: Vec<String> = c.tests.iter().map(|(k, n)| format!("{} {n}", <&str>::from(k))).collect();
+    let mut s = String::new();
     let _ = writeln!(
         s,
         "rays         {rays} total: eye {}, reflected {}, refracted {}, shadow {}",
@@ -75,7 +91,7 @@ pub fn statistics(
         "tests        {} total ({:.2} per ray): {}",
         c.total_tests(),
         per(c.total_tests(), rays),
-        by_kind(&|k, n| format!("{k} {n}"))
+        by_kind.join(", ")
     );
     let _ = writeln!(
         s,
@@ -83,14 +99,6 @@ pub fn statistics(
         c.visits,
         per(c.visits, rays),
         c.mailbox_hits
-    );
-    let _ = writeln!(
-        s,
-        "time         parse {:.3} s, render {:.3} s ({:.2} Mrays/s), total {:.3} s",
-        times.parse,
-        out.seconds,
-        rays as f64 / out.seconds.max(1e-9) / 1e6,
-        times.total
     );
     s
 }

@@ -16,7 +16,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 /// Tile side in pixels.
-const TILE: u32 = 16;
+pub const TILE: u32 = 16;
 
 /// How to render.
 #[derive(Debug, Clone)]
@@ -272,13 +272,10 @@ fn run_tiles<I: Intersector>(
                 let mut costs = Vec::with_capacity(if want_cost { colors.capacity() } else { 0 });
                 for y in ty..y1 {
                     for x in tx..x1 {
-                        let (px, py) = (grid.x0 + x, grid.y0 + y);
+                        let work = th.counters.work();
+                        colors.push(f(grid.x0 + x, grid.y0 + y, th));
                         if want_cost {
-                            let work = th.counters.work();
-                            colors.push(f(px, py, th));
                             costs.push(th.counters.work() - work);
-                        } else {
-                            colors.push(f(px, py, th));
                         }
                     }
                 }

@@ -3,7 +3,7 @@
 use anyhow::{Context, Result};
 use clap::Parser;
 use nffkit_formats::image_io::{self, ImageKind};
-use nffkit_tools::{cli_util, part};
+use nffkit_tools::{cli_util, part, report};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -43,18 +43,7 @@ fn run(a: &Args) -> Result<()> {
     let bytes = image_io::encode(&merged.image, kind, a.srgb)?;
     nffkit_formats::atomic::write_bytes(&a.output, &bytes)?;
     if a.stats {
-        let c = &merged.counters;
-        println!(
-            "rays         {} total: eye {}, reflected {}, refracted {}, shadow {}",
-            c.rays(),
-            c.eye,
-            c.reflected,
-            c.refracted,
-            c.shadow
-        );
-        let tests: Vec<String> = c.tests.iter().map(|(k, n)| format!("{} {n}", <&str>::from(k))).collect();
-        println!("tests        {} total: {}", c.total_tests(), tests.join(", "));
-        println!("traversal    {} nodes/cells visited, {} mailbox hits", c.visits, c.mailbox_hits);
+        print!("{}", report::counters(&merged.counters));
     }
     if !a.quiet {
         let (w, h) = (merged.image.width, merged.image.height);
