@@ -275,4 +275,39 @@ mod tests {
         assert_eq!(parse_counters(&counters_line(&c)), Some(c));
         assert_eq!(parse_counters("eye=1 comet=2"), None);
     }
+
+    fn part_file(dir: &Path, name: &str, full: (u32, u32), window: PixelWindow, digest: &str) -> PathBuf {
+        let img = RgbImage {
+            width: window.width(),
+            height: window.height(),
+            pixels: vec![[0.5; 3]; (window.width() * window.height()) as usize],
+        };
+        let bytes = encode_part(&img, full, window, digest, "s", &Counters::default()).unwrap();
+        let path = dir.join(name);
+        std::fs::write(&path, bytes).unwrap();
+        path
+    }
+
+    #[test]
+    fn hostile_parts_are_refused_without_panicking() {
+        let dir = tempfile::tempdir().unwrap();
+        let top = PixelWindow { x0: 0, x1: 4, y0: 0, y1: 2 };
+        let bottom = PixelWindow { x0: 0, x1: 4, y0: 2, y1: 4 };
+        let a = read_part(&part_file(dir.path(), "a.exr", (4, 4), top, "ab")).unwrap();
+        let b = read_part(&part_file(dir.path(), "b.exr", (4, 4), bottom, "c")).unwrap();
+        let e = merge(&[a.clone(), b]).err().unwrap().to_string();
+        assert!(e.contains("another scene") && e.contains("digests c and ab"), "{e}");
+        let whole = PixelWindow { x0: 0, x1: 4, y0: 0, y1: 4 };
+        assert_eq!(
+            merge(&[read_part(&part_file(dir.path(), "w.exr", (4, 4), whole, "ab")).unwrap()])
+                .unwrap()
+                .image
+                .pixels
+                .len(),
+            16
+        );
+        let huge = part_file(dir.path(), "h.exr", (70000, 4), top, "ab");
+        let e = read_part(&huge).unwrap_err().to_string();
+        assert!(e.contains("larger than nffkit renders"), "{e}");
+    }
 }
