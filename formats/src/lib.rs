@@ -14,4 +14,4 @@ pub mod nff;
 pub mod polygon;
 pub mod scene;
 
-pub use scene::{Color, Light, Material, Primitive, Scene, Shape, SourceLine, View, SPD_SKY};
+pub use scene::{Color, Light, Material, Primitive, Scene, Shape, SourceLine, View, SHAPE_KINDS, SPD_SKY};

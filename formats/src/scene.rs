@@ -111,12 +111,31 @@ pub enum Shape {
         /// One normal per vertex.
         normals: Vec<DVec3>,
     },
+    /// `pl`, an extension from the 2017 course files: the infinite plane
+    /// through three points, its front given by the right-hand rule
+    /// (`(b - a) × (c - a)`). Unbounded: it has no box.
+    Plane {
+        /// The three points, in order.
+        points: [DVec3; 3],
+    },
+    /// `aabb`, an extension seen in the same course's scenes: an
+    /// axis-aligned box, its faces facing out.
+    Box {
+        /// Lowest corner.
+        min: DVec3,
+        /// Highest corner.
+        max: DVec3,
+    },
 }
 
+/// The kinds of entity a scene holds, for counts and reports.
+pub const SHAPE_KINDS: [&str; 6] = ["sphere", "cone", "polygon", "patch", "plane", "box"];
+
 impl Shape {
-    /// Axis-aligned bounds `(min, max)` of the shape.
-    pub fn bounds(&self) -> (DVec3, DVec3) {
-        match self {
+    /// Axis-aligned bounds `(min, max)` of the shape; `None` for an
+    /// unbounded plane.
+    pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        Some(match self {
             Shape::Sphere { center, radius } => {
                 let r = DVec3::splat(radius.abs());
                 (*center - r, *center + r)
@@ -135,6 +154,20 @@ impl Shape {
                 }
                 (lo, hi)
             }
+            Shape::Box { min, max } => (min.min(*max), min.max(*max)),
+            Shape::Plane { .. } => return None,
+        })
+    }
+
+    /// Index of the shape's kind in [`SHAPE_KINDS`].
+    pub fn kind_index(&self) -> usize {
+        match self {
+            Shape::Sphere { .. } => 0,
+            Shape::Cone { .. } => 1,
+            Shape::Polygon { .. } => 2,
+            Shape::Patch { .. } => 3,
+            Shape::Plane { .. } => 4,
+            Shape::Box { .. } => 5,
         }
     }
 }
@@ -179,21 +212,18 @@ impl Scene {
         prim.material.map(|m| self.materials[m as usize].clone()).unwrap_or_default()
     }
 
-    /// Bounds of all primitives, `None` for a scene without any.
+    /// Bounds of all bounded primitives (infinite planes have none), `None`
+    /// for a scene without any.
     pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
-        self.primitives.iter().map(|p| p.shape.bounds()).reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
+        self.primitives.iter().filter_map(|p| p.shape.bounds()).reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
     }
 
-    /// Count of primitives by kind: spheres, cones, polygons, patches.
-    pub fn counts(&self) -> [usize; 4] {
-        let mut n = [0; 4];
+    /// Count of primitives by kind, in the order of [`SHAPE_KINDS`]:
+    /// spheres, cones, polygons, patches, planes, boxes.
+    pub fn counts(&self) -> [usize; 6] {
+        let mut n = [0; 6];
         for p in &self.primitives {
-            n[match p.shape {
-                Shape::Sphere { .. } => 0,
-                Shape::Cone { .. } => 1,
-                Shape::Polygon { .. } => 2,
-                Shape::Patch { .. } => 3,
-            }] += 1;
+            n[p.shape.kind_index()] += 1;
         }
         n
     }

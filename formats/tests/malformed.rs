@@ -71,7 +71,12 @@ fn view_errors_point_at_the_offending_line() {
     );
     expect("v\nfrom 1 2 3\nat 1 2 3\nup 0 1 0\nangle 45\nhither 1\nresolution 8 8\n", 3, 1, "same point");
     expect("v\nfrom 0 0 5\nat 0 0 0\nup 0 0 2\nangle 45\nhither 1\nresolution 8 8\n", 4, 1, "parallel");
-    expect("v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nhither 1\nresolution 8 8\n", 1, 1, "no `angle`");
+    expect(
+        "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nhither 1\nresolution 8 8\n",
+        5,
+        1,
+        "expected the view's `angle` line, found `hither`",
+    );
 }
 
 #[test]
@@ -102,7 +107,7 @@ fn lenient_skips_mail_headers_and_dialect_lines() {
 
 #[test]
 fn missing_view_is_an_error_except_for_fragments() {
-    expect("s 0 0 0 1\n", 1, 1, "no view");
+    expect("s 0 0 0 1\n", 1, 10, "no view");
     let frag = nff::parse(b"s 0 0 0 1\n", &ParseOptions { fragment: true, ..Default::default() });
     assert_eq!(frag.unwrap().scene.primitives.len(), 1);
 }

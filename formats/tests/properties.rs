@@ -116,7 +116,7 @@ proptest! {
     #[test]
     fn arbitrary_bytes_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..512)) {
         let _ = nff::parse(&bytes, &ParseOptions::default());
-        let _ = nff::parse(&bytes, &ParseOptions { lenient: true, fragment: true });
+        let _ = nff::parse(&bytes, &ParseOptions { lenient: true, fragment: true, ..Default::default() });
     }
 
     #[test]
@@ -130,6 +130,6 @@ proptest! {
     ) {
         let src = toks.join(" ");
         let _ = nff::parse(src.as_bytes(), &ParseOptions::default());
-        let _ = nff::parse(src.as_bytes(), &ParseOptions { lenient: true, fragment: true });
+        let _ = nff::parse(src.as_bytes(), &ParseOptions { lenient: true, fragment: true, ..Default::default() });
     }
 }

@@ -38,7 +38,7 @@ fn every_spd_database_parses_with_the_right_counts() {
         assert!(scene.background.is_some(), "{name}");
         assert_eq!(scene.lights.len(), lights, "{name} lights");
         assert_eq!(scene.materials.len(), materials, "{name} materials");
-        assert_eq!(scene.counts(), [s, c, p, pp], "{name} primitives");
+        assert_eq!(scene.counts(), [s, c, p, pp, 0, 0], "{name} primitives");
     }
 }
 

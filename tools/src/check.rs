@@ -1,7 +1,7 @@
 //! `render --check`: validate NFF files and summarise what they hold.
 
 use nffkit_formats::nff::{self, ParseOptions, Severity};
-use nffkit_formats::Scene;
+use nffkit_formats::{Scene, SHAPE_KINDS};
 use std::fmt::Write as _;
 
 /// The outcome of checking one file.
@@ -22,15 +22,21 @@ pub fn check_source(name: &str, src: &[u8], opts: &ParseOptions) -> CheckReport 
             for d in &parsed.diagnostics {
                 diagnostics += &d.render(name, src);
             }
-            let warnings = parsed.diagnostics.len();
-            CheckReport { diagnostics, summary: summary(name, &parsed.scene, warnings), errors: 0 }
+            let unlit = crate::lighting::unlit_warning(&parsed.scene, false);
+            if let Some(w) = &unlit {
+                diagnostics += &format!("warning: {w}\n --> {name}\n");
+            }
+            let warnings = parsed.diagnostics.iter().filter(|d| d.severity == Severity::Warning).count()
+                + unlit.is_some() as usize;
+            let notes = parsed.diagnostics.iter().filter(|d| d.severity == Severity::Note).count();
+            CheckReport { diagnostics, summary: summary(name, &parsed.scene, warnings, notes), errors: 0 }
         }
         Err(e) => {
             for d in &e.diagnostics {
                 diagnostics += &d.render(name, src);
             }
             let errors = e.diagnostics.iter().filter(|d| d.severity == Severity::Error).count();
-            let warnings = e.diagnostics.len() - errors;
+            let warnings = e.diagnostics.iter().filter(|d| d.severity == Severity::Warning).count();
             let summary = format!(
                 "{name}: INVALID, {errors} error{}, {warnings} warning{}",
                 plural(errors),
@@ -49,9 +55,9 @@ fn plural(n: usize) -> &'static str {
     }
 }
 
-fn summary(name: &str, scene: &Scene, warnings: usize) -> String {
-    let [s, c, p, pp] = scene.counts();
-    let total = s + c + p + pp;
+fn summary(name: &str, scene: &Scene, warnings: usize, notes: usize) -> String {
+    let counts = scene.counts();
+    let total: usize = counts.iter().sum();
     let mut out = format!("{name}: ok, ");
     if let Some(v) = &scene.view {
         let _ = write!(out, "view {}x{}, ", v.resolution[0], v.resolution[1]);
@@ -67,10 +73,14 @@ fn summary(name: &str, scene: &Scene, warnings: usize) -> String {
         plural(scene.materials.len()),
         plural(total)
     );
-    let kinds: Vec<String> = [(s, "sphere"), (c, "cone"), (p, "polygon"), (pp, "patch")]
+    let kinds: Vec<String> = counts
         .iter()
-        .filter(|(n, _)| *n > 0)
-        .map(|(n, k)| format!("{n} {k}{}", if *k == "patch" && *n != 1 { "es" } else { plural(*n) }))
+        .zip(SHAPE_KINDS)
+        .filter(|(n, _)| **n > 0)
+        .map(|(&n, k)| {
+            let es = (k == "patch" || k == "box") && n != 1;
+            format!("{n} {k}{}", if es { "es" } else { plural(n) })
+        })
         .collect();
     if !kinds.is_empty() {
         let _ = write!(out, " ({})", kinds.join(", "));
@@ -83,6 +93,9 @@ fn summary(name: &str, scene: &Scene, warnings: usize) -> String {
         );
     }
     let _ = write!(out, ", {warnings} warning{}", plural(warnings));
+    if notes > 0 {
+        let _ = write!(out, ", {notes} note{}", plural(notes));
+    }
     out
 }
 
@@ -106,8 +119,9 @@ mod tests {
 
     #[test]
     fn invalid_file_counts_errors() {
+        // The cut-short `b` and the missing view are both reported.
         let r = check_source("t.nff", b"b 1 2\n", &ParseOptions::default());
-        assert_eq!(r.errors, 1);
+        assert_eq!(r.errors, 2);
         assert!(r.summary.contains("INVALID"));
         assert!(r.diagnostics.contains("t.nff:"));
     }

@@ -2,7 +2,7 @@
 //! printed, compiler-like diagnostics.
 
 use anyhow::{bail, Context, Result};
-use nffkit_formats::nff::{self, ParseOptions, Parsed};
+use nffkit_formats::nff::{self, ParseOptions, Parsed, Severity};
 use std::io::Read;
 use std::path::Path;
 
@@ -27,14 +27,14 @@ pub fn display_name(path: &Path) -> String {
 }
 
 /// Read and parse a scene, printing warnings (unless `quiet`) and every error
-/// to stderr. Fails with a one-line summary when the file has errors.
+/// to stderr; notes (uses of documented extensions) are left to `--check`. Fails with a one-line summary when the file has errors.
 pub fn load_scene(path: &Path, opts: &ParseOptions, quiet: bool) -> Result<Parsed> {
     let src = read_source(path)?;
     let name = display_name(path);
     match nff::parse(&src, opts) {
         Ok(parsed) => {
             if !quiet {
-                for d in &parsed.diagnostics {
+                for d in parsed.diagnostics.iter().filter(|d| d.severity != Severity::Note) {
                     eprint!("{}", d.render(&name, &src));
                 }
             }

@@ -87,8 +87,9 @@ fn text(s: &str) -> Result<Text> {
 fn counters_line(c: &Counters) -> String {
     let tests: Vec<String> = c.tests.iter().map(|(k, n)| format!("{}={n}", <&str>::from(k))).collect();
     format!(
-        "eye={} reflected={} refracted={} shadow={} visits={} mailbox={} {}",
+        "eye={} eye_hits={} reflected={} refracted={} shadow={} visits={} mailbox={} {}",
         c.eye,
+        c.eye_hits,
         c.reflected,
         c.refracted,
         c.shadow,
@@ -105,6 +106,7 @@ fn parse_counters(s: &str) -> Option<Counters> {
         let value: u64 = value.parse().ok()?;
         match key {
             "eye" => c.eye = value,
+            "eye_hits" => c.eye_hits = value,
             "reflected" => c.reflected = value,
             "refracted" => c.refracted = value,
             "shadow" => c.shadow = value,
@@ -262,6 +264,7 @@ mod tests {
     fn counters_round_trip_through_their_attribute() {
         let mut c = Counters {
             eye: 5,
+            eye_hits: 6,
             reflected: 4,
             refracted: 3,
             shadow: 2,

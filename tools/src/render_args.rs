@@ -15,7 +15,7 @@ use nffkit_formats::nff::ParseOptions;
 use nffkit_tracer::accel::{AccelKind, AccelOptions};
 use nffkit_tracer::filter::FilterKind;
 use nffkit_tracer::integrator::LightShape;
-use nffkit_tracer::prepare::PrepareOptions;
+use nffkit_tracer::prepare::{Ambient, PrepareOptions};
 use nffkit_tracer::render::{PixelWindow, RenderSettings};
 use nffkit_tracer::sampling::{Sampler, SamplerKind};
 use std::path::PathBuf;
@@ -67,6 +67,12 @@ pub struct RenderArgs {
     /// default is 1/255 = 0.0039.
     #[arg(long, default_value_t = 0.0, value_parser = unit_interval)]
     pub min_weight: f32,
+    /// Ambient light: `ambient × colour × Kd` at every hit. A number, or
+    /// `spd` for the SPD Readme's lighting (the ambient and each light
+    /// without a colour at 1/(2 sqrt(n)) for n lights). Default: none, the
+    /// classic image.
+    #[arg(long, value_name = "VALUE|spd", value_parser = ambient)]
+    pub ambient: Option<Ambient>,
     /// Seed of every random pattern.
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
@@ -84,6 +90,11 @@ pub struct RenderArgs {
     /// Unknown entities become warnings and are skipped.
     #[arg(long)]
     pub lenient: bool,
+    /// Read the plain NFF.TXT language: the 2017 course extensions `pl`
+    /// (infinite plane through three points) and `aabb` (axis-aligned box),
+    /// read by default, become errors.
+    #[arg(long, conflicts_with = "lenient")]
+    pub strict: bool,
 
     /// The spec's one-sided rule: opaque objects are invisible from behind.
     /// Default is two-sided shading; transmitters are always two-sided.
@@ -296,6 +307,7 @@ impl RenderArgs {
             aperture: self.aperture,
             focus: self.focus,
             accel: AccelOptions { kind: self.accel, grid_m: self.grid_m, mailbox: !self.no_mailbox },
+            ambient: self.ambient.unwrap_or_default(),
         };
         Ok(RenderConfig {
             input: self.files.first().cloned(),
@@ -315,7 +327,7 @@ impl RenderArgs {
     }
 
     fn parse_options(&self) -> ParseOptions {
-        ParseOptions { lenient: self.lenient, fragment: self.fragment }
+        ParseOptions { lenient: self.lenient, fragment: self.fragment, strict: self.strict }
     }
 
     fn part(&self) -> Option<PartSpec> {
@@ -397,6 +409,13 @@ fn number(s: &str) -> Result<f32, String> {
 
 fn non_negative(s: &str) -> Result<f32, String> {
     number(s).and_then(|v| if v >= 0.0 { Ok(v) } else { Err(format!("must not be negative (got {v})")) })
+}
+
+fn ambient(s: &str) -> Result<Ambient, String> {
+    if s.eq_ignore_ascii_case("spd") {
+        return Ok(Ambient::Spd);
+    }
+    non_negative(s).map(Ambient::Value).map_err(|e| format!("{e}; expected a number or `spd`"))
 }
 
 fn positive(s: &str) -> Result<f32, String> {

@@ -4,13 +4,13 @@
 //! `nffkit_tracer`; validation is done before anything here runs.
 
 use crate::render_args::{Command, RenderArgs, RenderConfig};
-use crate::{check, default_scene, input, part, report};
+use crate::{check, default_scene, input, lighting, part, report, spd_published};
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use nffkit_formats::image_io::{self, ImageKind};
 use nffkit_formats::nff::ParseOptions;
 use nffkit_tracer::film::cost_heatmap;
-use nffkit_tracer::prepare::prepare;
+use nffkit_tracer::prepare::{prepare, Ambient};
 use nffkit_tracer::render::{render, PixelWindow};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -68,6 +68,10 @@ fn render_command(cfg: &RenderConfig) -> Result<()> {
         None => (default_scene::default_scene(), "built-in default scene".to_string()),
     };
     let t_parse = t_start.elapsed().as_secs_f64();
+    let ambient = !matches!(cfg.prepare.ambient, Ambient::Off | Ambient::Value(0.0));
+    if let Some(w) = lighting::unlit_warning(&scene, ambient).filter(|_| !cfg.quiet) {
+        eprintln!("warning: {name}: {w}");
+    }
     let prepared = prepare(&scene, &cfg.prepare).with_context(|| name.clone())?;
     let full = prepared.camera.resolution();
     let mut settings = cfg.settings.clone();
@@ -109,6 +113,9 @@ fn render_command(cfg: &RenderConfig) -> Result<()> {
     if cfg.stats {
         let times = report::Times { parse: t_parse, total: t_start.elapsed().as_secs_f64() };
         print!("{}", report::statistics(&name, &scene, &prepared, &settings, &out, times));
+        if let Some(published) = spd_published::recognise(&scene).filter(|_| settings.spd_corners) {
+            print!("{}", spd_published::comparison(published, &out.counters, full.0, full.1));
+        }
     }
     if !cfg.quiet {
         let what = if settings.window.is_some() {

@@ -40,9 +40,10 @@ pub fn statistics(
     let (w, h) = prepared.camera.resolution();
     let rays = c.rays();
     let mut s = String::new();
+    let planes = if g.planes.is_empty() { String::new() } else { format!(", {} planes", g.planes.len()) };
     let _ = writeln!(
         s,
-        "scene        {name}: {} primitives in the file -> {} spheres, {} triangles, {} cones",
+        "scene        {name}: {} primitives in the file -> {} spheres, {} triangles, {} cones{planes}",
         scene.primitives.len(),
         g.spheres.len(),
         g.triangles.len(),
@@ -83,8 +84,8 @@ pub fn counters(c: &Counters) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "rays         {rays} total: eye {}, reflected {}, refracted {}, shadow {}",
-        c.eye, c.reflected, c.refracted, c.shadow
+        "rays         {rays} total: eye {} ({} hit), reflected {}, refracted {}, shadow {}",
+        c.eye, c.eye_hits, c.reflected, c.refracted, c.shadow
     );
     let _ = writeln!(
         s,

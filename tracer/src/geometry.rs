@@ -1,6 +1,9 @@
-//! The primitive store: spheres, triangles and cones in flat typed arrays,
-//! addressed by one dense `u32` id space (spheres first, then triangles, then
-//! cones), so accelerators and mailboxes can index any primitive.
+//! The primitive store: spheres, triangles, cones and infinite planes in flat
+//! typed arrays, addressed by one dense `u32` id space (spheres first, then
+//! triangles, cones, and planes last), so accelerators and mailboxes can index
+//! any primitive. Planes have no bounds: accelerators are built over the
+//! bounded ids `0..bounded_len()` and the planes are tested beside them (see
+//! [`crate::accel::Intersector`]).
 //!
 //! Each shape has a cheap hit test returning distance (and barycentrics) and a
 //! separate [`Geometry::surface`] that builds normals only for the final hit.
@@ -53,6 +56,16 @@ pub struct Cone {
     pub slope: f32,
 }
 
+/// An infinite plane (the course files' `pl`): the points `p` with
+/// `n · p = n · point`.
+#[derive(Debug, Clone, Copy)]
+pub struct Plane {
+    /// A point on the plane.
+    pub point: Vec3A,
+    /// Unit normal; its side is the front.
+    pub n: Vec3A,
+}
+
 /// The kinds of primitive, for statistics. Counters are arrays of
 /// `Kind::COUNT` indexed by kind (see [`crate::stats::PerKind`]), so a new
 /// kind is counted and printed without touching the statistics code.
@@ -65,6 +78,8 @@ pub enum Kind {
     Triangle,
     /// A cone or cylinder.
     Cone,
+    /// An infinite plane.
+    Plane,
 }
 
 /// Per-primitive data the hit tests do not need: material, culling, normals.
@@ -121,8 +136,10 @@ pub struct Geometry {
     pub spheres: Vec<Sphere>,
     /// Triangles: the next ids.
     pub triangles: Vec<Triangle>,
-    /// Cones: the last ids.
+    /// Cones: the next ids.
     pub cones: Vec<Cone>,
+    /// Infinite planes: the last ids, outside every accelerator.
+    pub planes: Vec<Plane>,
     /// Per-primitive data, indexed by id.
     pub info: Vec<PrimInfo>,
     /// Vertex normals of patch triangles.
@@ -144,22 +161,39 @@ impl Geometry {
         self.info.is_empty()
     }
 
+    /// Number of bounded primitives (all but the planes): the ids
+    /// `0..bounded_len()` are what accelerators are built over.
+    #[inline]
+    pub fn bounded_len(&self) -> usize {
+        self.info.len() - self.planes.len()
+    }
+
+    /// The ids of the infinite planes.
+    #[inline]
+    pub fn plane_ids(&self) -> std::ops::Range<u32> {
+        self.bounded_len() as u32..self.len() as u32
+    }
+
     /// The kind of primitive `id`, and its index in that kind's array.
     #[inline]
     pub fn locate(&self, id: u32) -> (Kind, usize) {
         let id = id as usize;
         let ns = self.spheres.len();
         let nt = ns + self.triangles.len();
+        let nc = nt + self.cones.len();
         if id < ns {
             (Kind::Sphere, id)
         } else if id < nt {
             (Kind::Triangle, id - ns)
-        } else {
+        } else if id < nc {
             (Kind::Cone, id - nt)
+        } else {
+            (Kind::Plane, id - nc)
         }
     }
 
-    /// Bounds of primitive `id`.
+    /// Bounds of primitive `id`; infinite for a plane (accelerators never
+    /// ask for those).
     pub fn bounds(&self, id: u32) -> Aabb {
         match self.locate(id) {
             (Kind::Sphere, i) => {
@@ -181,6 +215,7 @@ impl Geometry {
                 let (e0, e1) = (e * c.r0.abs(), e * r1.abs());
                 Aabb::new((c.base - e0).min(apex - e1), (c.base + e0).max(apex + e1))
             }
+            (Kind::Plane, _) => Aabb::new(Vec3A::splat(f32::NEG_INFINITY), Vec3A::splat(f32::INFINITY)),
         }
     }
 
@@ -192,6 +227,7 @@ impl Geometry {
             (Kind::Sphere, i) => (intersect_sphere(&self.spheres[i], q, t_max, cull)?, 0.0, 0.0),
             (Kind::Triangle, i) => intersect_triangle(&self.triangles[i], q, t_max, cull)?,
             (Kind::Cone, i) => (intersect_cone(&self.cones[i], q, t_max, cull)?, 0.0, 0.0),
+            (Kind::Plane, i) => (intersect_plane(&self.planes[i], q, t_max, cull)?, 0.0, 0.0),
         };
         Some(Hit { t, prim: id, u, v })
     }
@@ -235,6 +271,13 @@ impl Geometry {
                 let n = (radial - c.axis * c.slope).normalize();
                 Surface { p, ng: n, ns: n }
             }
+            (Kind::Plane, i) => {
+                let pl = self.planes[i];
+                // Far along a grazing ray o + t d strays off the plane;
+                // projecting back keeps shadow-ray origins on the right side.
+                let p = p - pl.n * pl.n.dot(p - pl.point);
+                Surface { p, ng: pl.n, ns: pl.n }
+            }
         }
     }
 }
@@ -274,6 +317,23 @@ pub fn intersect_sphere(s: &Sphere, q: &RayQuery, t_max: f32, cull: Cull) -> Opt
         Cull::Back => ok(t0).then_some(t0),
         Cull::Front => ok(t1).then_some(t1),
     }
+}
+
+/// Ray against an infinite plane: `t = n · (point − o) / n · d`.
+#[inline]
+pub fn intersect_plane(pl: &Plane, q: &RayQuery, t_max: f32, cull: Cull) -> Option<f32> {
+    let denom = pl.n.dot(q.ray.d);
+    // denom < 0: the ray meets the front side.
+    let culled = match cull {
+        Cull::None => false,
+        Cull::Back => denom >= 0.0,
+        Cull::Front => denom <= 0.0,
+    };
+    if denom == 0.0 || culled {
+        return None;
+    }
+    let t = pl.n.dot(pl.point - q.ray.o) / denom;
+    (t > q.t_min && t < t_max).then_some(t)
 }
 
 /// Watertight ray-triangle test (Woop, Benthin and Wald, JCGT 2013): edge
@@ -489,6 +549,20 @@ mod tests {
         assert!(
             intersect_cone(&cylinder(), &q([0.0, 0.0, 1.0], [1.0, 0.0, 0.0]), 100.0, Cull::Back).is_none()
         );
+    }
+
+    #[test]
+    fn plane_hits_from_both_sides_and_culls() {
+        let pl = Plane { point: Vec3A::new(0.0, -1.0, 0.0), n: Vec3A::Y };
+        let down = q([3.0, 2.0, -7.0], [0.0, -1.0, 0.0]);
+        assert_eq!(intersect_plane(&pl, &down, 100.0, Cull::None), Some(3.0));
+        assert_eq!(intersect_plane(&pl, &down, 100.0, Cull::Back), Some(3.0));
+        assert_eq!(intersect_plane(&pl, &down, 100.0, Cull::Front), None);
+        let up = q([0.0, -3.0, 0.0], [0.0, 1.0, 0.0]);
+        assert_eq!(intersect_plane(&pl, &up, 100.0, Cull::None), Some(2.0));
+        assert_eq!(intersect_plane(&pl, &up, 100.0, Cull::Back), None);
+        assert_eq!(intersect_plane(&pl, &q([0.0, 0.0, 0.0], [1.0, 0.0, 0.0]), 100.0, Cull::None), None);
+        assert_eq!(intersect_plane(&pl, &down, 2.5, Cull::None), None);
     }
 
     #[test]

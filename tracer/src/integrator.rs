@@ -1,8 +1,21 @@
-//! Classic NFF Whitted shading. For each light whose shadow ray is clear:
+//! Classic NFF Whitted shading. `ambient · Kd · colour`, and for each light
+//! whose shadow ray is clear:
 //! `I · (Kd · colour · max(0, N·L) + Ks · max(0, R·V)^Shine)`; plus
 //! `Ks · reflected` and `T · refracted` (Snell's law with the material's
 //! index; on total internal reflection the reflection is traced instead);
 //! no shadow ray when N·L ≤ 0; the background for rays that escape.
+//!
+//! Which rays are spawned follows one of two rules ([`ShadeSettings::spd_rules`]):
+//!
+//! - Plain rendering, the NFF reading: a reflection ray when Ks > 0, a
+//!   refraction ray when T > 0. A glass written with Ks = 0 shows no
+//!   reflection, as its file says; on total internal reflection its
+//!   transmitted share reflects (counted as a reflected ray).
+//! - The SPD testing procedure (`--spd-stats`, SPD Readme rules 8 and 9):
+//!   every hit on a reflective *or transmitting* surface spawns a
+//!   reflection ray, weighted Ks (its share of the image, possibly 0), and a
+//!   transmitter spawns a refraction ray unless there is total internal
+//!   reflection, when the transmitted share goes to that one reflection ray.
 
 use crate::accel::Intersector;
 use crate::math::{basis, offset_ray_origin, reflect, refract, Ray, RayQuery};
@@ -37,6 +50,9 @@ pub struct ShadeSettings {
     /// traced. 0 traces every ray up to `max_depth` (the classic rule);
     /// POV-Ray's default `adc_bailout` is 1/255.
     pub min_weight: f32,
+    /// Spawn rays by the SPD testing procedure (module doc) instead of the
+    /// plain NFF rule.
+    pub spd_rules: bool,
 }
 
 /// Which sample of which pixel a ray belongs to, for drawing light samples.
@@ -91,6 +107,9 @@ impl<I: Intersector> Whitted<'_, I> {
         let q = RayQuery::new(ray, t_min);
         let hit = self.accel.intersect(&scene.geometry, &q, f32::INFINITY, &mut th.scratch, &mut th.counters);
         let Some(hit) = hit else { return scene.background };
+        if depth == 1 {
+            th.counters.eye_hits += 1;
+        }
         let s = scene.geometry.surface(&hit, &q);
         let info = scene.geometry.info[hit.prim as usize];
         let m = scene.materials[info.material as usize];
@@ -99,28 +118,11 @@ impl<I: Intersector> Whitted<'_, I> {
         let entering = s.ng.dot(d) < 0.0;
         let flip = if entering { 1.0 } else { -1.0 };
         let (ng, ns) = (s.ng * flip, s.ns * flip);
-        let mut color = Vec3A::ZERO;
+        let mut color = scene.ambient * m.kd * m.color;
         let view = -d;
         for (k, light) in scene.lights.iter().enumerate() {
             let pos = self.light_position(k, light.position, s.p, depth, id);
-            let to_light = pos - s.p;
-            let dist = to_light.length();
-            if dist == 0.0 {
-                continue;
-            }
-            let l = to_light / dist;
-            let n_dot_l = ns.dot(l);
-            if n_dot_l <= 0.0 {
-                continue;
-            }
-            let side = if ng.dot(l) >= 0.0 { ng } else { -ng };
-            let origin = offset_ray_origin(s.p, side);
-            let sq = RayQuery::new(Ray { o: origin, d: (pos - origin).normalize() }, 0.0);
-            th.counters.shadow += 1;
-            let max = (pos - origin).length();
-            if self.accel.occluded(&scene.geometry, &sq, max, &mut th.scratch, &mut th.counters) {
-                continue;
-            }
+            let Some((l, n_dot_l)) = self.lit(s.p, pos, ng, ns, th) else { continue };
             let r = reflect(-l, ns);
             let spec = if m.ks > 0.0 { m.ks * r.dot(view).max(0.0).powf(m.shine) } else { 0.0 };
             color += light.intensity * (m.kd * n_dot_l * m.color + Vec3A::splat(spec));
@@ -129,33 +131,80 @@ impl<I: Intersector> Whitted<'_, I> {
             return color;
         }
         let min = self.settings.min_weight;
-        if m.ks > 0.0 && weight * m.ks >= min {
-            th.counters.reflected += 1;
-            let r = self.mirror(d, ns, ng);
-            let o = offset_ray_origin(s.p, ng);
-            color += m.ks * self.li(Ray { o, d: r }, 0.0, depth + 1, weight * m.ks, id, th);
-        }
-        if m.t > 0.0 && weight * m.t >= min {
-            th.counters.refracted += 1;
+        let refracted = if m.t > 0.0 {
             let eta = if entering { 1.0 / m.ior } else { m.ior };
-            let traced = match refract(d, ns, eta) {
-                Some(t) if t.dot(ng) < 0.0 => self.li(
-                    Ray { o: offset_ray_origin(s.p, -ng), d: t },
-                    0.0,
-                    depth + 1,
-                    weight * m.t,
-                    id,
-                    th,
-                ),
-                _ => {
-                    // Total internal reflection: the transmitted share reflects.
-                    let r = self.mirror(d, ns, ng);
-                    self.li(Ray { o: offset_ray_origin(s.p, ng), d: r }, 0.0, depth + 1, weight * m.t, id, th)
-                }
-            };
-            color += m.t * traced;
+            refract(d, ns, eta).filter(|t| t.dot(ng) < 0.0)
+        } else {
+            None
+        };
+        let tir = m.t > 0.0 && refracted.is_none();
+        let trace_mirror = |share: f32, th: &mut ThreadState<I::Scratch>| {
+            th.counters.reflected += 1;
+            let o = offset_ray_origin(s.p, ng);
+            share * self.li(Ray { o, d: self.mirror(d, ns, ng) }, 0.0, depth + 1, weight * share, id, th)
+        };
+        if self.settings.spd_rules {
+            // Rules 8 and 9: one reflection ray at any reflector or
+            // transmitter, carrying the transmitted share on TIR.
+            let share = m.ks + if tir { m.t } else { 0.0 };
+            if (m.ks > 0.0 || m.t > 0.0) && weight * share >= min {
+                color += trace_mirror(share, th);
+            }
+        } else {
+            if m.ks > 0.0 && weight * m.ks >= min {
+                color += trace_mirror(m.ks, th);
+            }
+            // Total internal reflection: the transmitted share reflects.
+            if tir && weight * m.t >= min {
+                color += trace_mirror(m.t, th);
+            }
+        }
+        if let Some(t) = refracted {
+            if weight * m.t >= min {
+                th.counters.refracted += 1;
+                let o = offset_ray_origin(s.p, -ng);
+                color += m.t * self.li(Ray { o, d: t }, 0.0, depth + 1, weight * m.t, id, th);
+            }
         }
         color
+    }
+
+    /// The direction to a light at `pos` and N·L, when the light faces the
+    /// point and its shadow ray is clear (counting the shadow ray).
+    ///
+    /// The shadow segment is shortened at both ends by the same robust
+    /// offset: off the surface at `p`, and short of the light at `pos`, so a
+    /// light lying in the plane of a polygon (a lamp on a wall) is not
+    /// shadowed by that polygon through rounding.
+    #[inline]
+    fn lit(
+        &self,
+        p: Vec3A,
+        pos: Vec3A,
+        ng: Vec3A,
+        ns: Vec3A,
+        th: &mut ThreadState<I::Scratch>,
+    ) -> Option<(Vec3A, f32)> {
+        let to_light = pos - p;
+        let dist = to_light.length();
+        if dist == 0.0 {
+            return None;
+        }
+        let l = to_light / dist;
+        let n_dot_l = ns.dot(l);
+        if n_dot_l <= 0.0 {
+            return None;
+        }
+        let side = if ng.dot(l) >= 0.0 { ng } else { -ng };
+        let origin = offset_ray_origin(p, side);
+        let dir = (pos - origin).normalize();
+        let end = offset_ray_origin(pos, -dir);
+        let max = (end - origin).dot(dir);
+        th.counters.shadow += 1;
+        let sq = RayQuery::new(Ray { o: origin, d: dir }, 0.0);
+        let occluded = max <= 0.0
+            || self.accel.occluded(&self.scene.geometry, &sq, max, &mut th.scratch, &mut th.counters);
+        (!occluded).then_some((l, n_dot_l))
     }
 
     /// Mirror direction by the shading normal, falling back to the geometric

@@ -3,7 +3,7 @@
 
 use crate::accel::{Accel, AccelOptions};
 use crate::camera::Camera;
-use crate::geometry::{Cone, Cull, Geometry, PrimInfo, Sphere, Triangle};
+use crate::geometry::{Cone, Cull, Geometry, Plane, PrimInfo, Sphere, Triangle};
 use crate::light::PointLight;
 use crate::material::WhittedMaterial;
 use crate::triangulate::triangulate;
@@ -26,6 +26,22 @@ pub struct PrepareOptions {
     pub focus: Option<f32>,
     /// The accelerator to build.
     pub accel: AccelOptions,
+    /// Ambient light.
+    pub ambient: Ambient,
+}
+
+/// Ambient light: `ambient × colour × Kd` added at every hit.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Ambient {
+    /// A fixed intensity (0, the default, is the classic image).
+    Value(f32),
+    /// The SPD Readme's lighting: the ambient and every light that has no
+    /// colour of its own at `sqrt(n) / (2 n)` = `1 / (2 sqrt(n))` for `n`
+    /// lights (`n` taken as 1 when there are none).
+    Spd,
+    /// None.
+    #[default]
+    Off,
 }
 
 /// Why a scene cannot be rendered.
@@ -50,6 +66,8 @@ pub struct RenderScene {
     pub materials: Vec<WhittedMaterial>,
     /// Background colour.
     pub background: Vec3A,
+    /// Ambient intensity (0: none).
+    pub ambient: f32,
     /// The primitives.
     pub geometry: Geometry,
     /// The accelerator over them.
@@ -71,8 +89,14 @@ pub fn prepare(scene: &Scene, opts: &PrepareOptions) -> Result<RenderScene, Prep
         return Err(PrepareError::BadSize(w, h));
     }
     let camera = Camera::new(view, w, h).with_lens(opts.aperture, opts.focus);
-    // SPD's convention for lights without a colour: each gets 1/sqrt(n).
-    let default_i = 1.0 / (scene.lights.len().max(1) as f32).sqrt();
+    // SPD's convention for lights without a colour: each gets 1/sqrt(n), or
+    // 1/(2 sqrt(n)) with the SPD Readme's ambient term beside them.
+    let root_n = (scene.lights.len().max(1) as f32).sqrt();
+    let (default_i, ambient) = match opts.ambient {
+        Ambient::Off => (1.0 / root_n, 0.0),
+        Ambient::Value(a) => (1.0 / root_n, a),
+        Ambient::Spd => (0.5 / root_n, 0.5 / root_n),
+    };
     let lights = scene
         .lights
         .iter()
@@ -99,18 +123,26 @@ pub fn prepare(scene: &Scene, opts: &PrepareOptions) -> Result<RenderScene, Prep
         lights,
         materials,
         background: scene.background.map(v3).unwrap_or(Vec3A::ZERO),
+        ambient,
         geometry,
         accel,
     })
 }
 
+/// The six faces of a box as quads of corner indices (bit 0: x, bit 1: y,
+/// bit 2: z at the max side), counter-clockwise seen from outside.
+const BOX_FACES: [[usize; 4]; 6] =
+    [[0, 4, 6, 2], [1, 3, 7, 5], [0, 1, 5, 4], [2, 6, 7, 3], [0, 2, 3, 1], [4, 5, 7, 6]];
+
 /// Flatten the file's primitives into typed arrays (spheres, then
-/// triangles, then cones, the order of the id space).
+/// triangles, cones and planes, the order of the id space). Boxes become
+/// twelve triangles.
 pub fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_sided: bool) -> Geometry {
     let mut g = Geometry::default();
     let mut sphere_info = Vec::new();
     let mut tri_info = Vec::new();
     let mut cone_info = Vec::new();
+    let mut plane_info = Vec::new();
     for prim in &scene.primitives {
         let material = prim.material.map_or(0, |m| m + 1);
         let transmissive = materials[material as usize].t > 0.0;
@@ -156,9 +188,31 @@ pub fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_sided: b
                     g.patch_normals.push(n);
                 }
             }
+            Shape::Plane { points: [a, b, c] } => {
+                let (a, b, c) = (*a, *b, *c);
+                // The normal in double precision: the points may be far apart.
+                let n = (b - a).cross(c - a).normalize();
+                if !n.is_finite() {
+                    continue;
+                }
+                g.planes.push(Plane { point: v3(a), n: v3(n) });
+                plane_info.push(info(cull(false), None));
+            }
+            Shape::Box { min, max } => {
+                let corner = |i: usize| {
+                    let pick = |bit: usize, lo: f64, hi: f64| if i & bit != 0 { hi } else { lo };
+                    v3(DVec3::new(pick(1, min.x, max.x), pick(2, min.y, max.y), pick(4, min.z, max.z)))
+                };
+                for [a, b, c, d] in BOX_FACES {
+                    for t in [[a, b, c], [a, c, d]] {
+                        g.triangles.push(Triangle { v: t.map(corner) });
+                        tri_info.push(info(cull(false), None));
+                    }
+                }
+            }
         }
     }
-    g.info = sphere_info.into_iter().chain(tri_info).chain(cone_info).collect();
+    g.info = sphere_info.into_iter().chain(tri_info).chain(cone_info).chain(plane_info).collect();
     g.any_cull = g.info.iter().any(|i| i.cull != Cull::None);
     g
 }

@@ -36,7 +36,8 @@ pub struct RenderSettings {
     pub light_shape: LightShape,
     /// Adaptive depth control threshold (0: off).
     pub min_weight: f32,
-    /// SPD test procedure: one ray through each pixel corner, averaged.
+    /// SPD test procedure: one ray through each pixel corner, averaged, and
+    /// rays spawned by the SPD's rules (see [`crate::integrator`]).
     pub spd_corners: bool,
     /// Record traversal work per pixel.
     pub cost: bool,
@@ -164,6 +165,7 @@ fn render_with<I: Intersector>(
             light_size: settings.light_size,
             light_shape: settings.light_shape,
             min_weight: settings.min_weight,
+            spd_rules: settings.spd_corners,
         },
     };
     let filter = Filter::new(settings.filter);

@@ -50,10 +50,11 @@ impl AddAssign for PerKind {
 pub struct Counters {
     /// Eye (primary) rays.
     pub eye: u64,
-    /// Reflected rays.
+    /// Eye rays that hit something (the SPD's "eye hit rays").
+    pub eye_hits: u64,
+    /// Reflected rays (including those of total internal reflection).
     pub reflected: u64,
-    /// Refracted rays (including reflections spawned by total internal
-    /// reflection of a transmitter).
+    /// Refracted rays.
     pub refracted: u64,
     /// Shadow rays.
     pub shadow: u64,
@@ -85,6 +86,7 @@ impl Counters {
 impl AddAssign for Counters {
     fn add_assign(&mut self, o: Counters) {
         self.eye += o.eye;
+        self.eye_hits += o.eye_hits;
         self.reflected += o.reflected;
         self.refracted += o.refracted;
         self.shadow += o.shadow;

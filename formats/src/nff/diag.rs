@@ -5,6 +5,9 @@ use std::fmt;
 /// How bad a diagnostic is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Severity {
+    /// Information only: a documented extension was used, for example.
+    /// Shown by `render --check`, not by a render.
+    Note,
     /// The scene renders, but something looks wrong.
     Warning,
     /// The file is not valid NFF; nothing is rendered.
@@ -43,6 +46,7 @@ impl Diagnostic {
         let kind = match self.severity {
             Severity::Error => "error",
             Severity::Warning => "warning",
+            Severity::Note => "note",
         };
         let mut out = format!("{kind}: {}\n", self.message);
         let num = self.line.to_string();

@@ -11,6 +11,8 @@ pub struct Token<'a> {
     pub text: &'a [u8],
     pub line: u32,
     pub column: u32,
+    /// The first token on its line (error recovery restarts at such tokens).
+    pub starts_line: bool,
 }
 
 impl Token<'_> {
@@ -42,11 +44,13 @@ pub struct Lexer<'a> {
     pos: usize,
     line: u32,
     line_start: usize,
+    /// Line of the last token returned (0 before the first).
+    last_line: u32,
 }
 
 impl<'a> Lexer<'a> {
     pub fn new(src: &'a [u8]) -> Self {
-        Lexer { src, pos: 0, line: 1, line_start: 0 }
+        Lexer { src, pos: 0, line: 1, line_start: 0, last_line: 0 }
     }
 }
 
@@ -82,7 +86,9 @@ impl<'a> Iterator for Lexer<'a> {
             self.pos += 1;
         }
         let column = char_count(&src[self.line_start..start]) + 1;
-        Some(Token { text: &src[start..self.pos], line: self.line, column })
+        let starts_line = self.line != self.last_line;
+        self.last_line = self.line;
+        Some(Token { text: &src[start..self.pos], line: self.line, column, starts_line })
     }
 }
 

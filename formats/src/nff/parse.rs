@@ -1,7 +1,13 @@
 //! The NFF reader: tokens in, [`Scene`] plus diagnostics out.
 //!
-//! The reader recovers from an error by skipping to the next entity keyword,
-//! so one run reports every broken entity, not just the first.
+//! The reader recovers from an error by skipping to the next entity keyword
+//! or the next line that starts with a word, so one run reports every broken
+//! entity and every unknown one, not just the first.
+//!
+//! Two extensions from the 2017 course files are read unless
+//! [`ParseOptions::strict`] is set: `pl x1 y1 z1 x2 y2 z2 x3 y3 z3`, the
+//! infinite plane through three points, and `aabb xmin ymin zmin xmax ymax
+//! zmax`, an axis-aligned box. Each use is reported as a note.
 
 use super::diag::{Diagnostic, Severity};
 use super::geometry_checks;
@@ -19,6 +25,9 @@ pub struct ParseOptions {
     /// The file is a fragment meant to be appended to another scene, so a
     /// missing `v` block is not an error.
     pub fragment: bool,
+    /// The plain NFF.TXT language: the course extensions `pl` and `aabb`
+    /// are errors.
+    pub strict: bool,
 }
 
 /// A successfully read scene and its warnings.
@@ -63,9 +72,36 @@ impl std::error::Error for ParseError {}
 
 /// Read an NFF scene from bytes. Never panics, whatever the bytes.
 pub fn parse(src: &[u8], opts: &ParseOptions) -> Result<Parsed, ParseError> {
-    let mut p = Parser::new(src, *opts);
+    // A UTF-8 byte-order mark (Windows editors) is one invisible character:
+    // dropping it keeps the columns of line 1 as the user sees them.
+    let (src, bom) = match src.strip_prefix(b"\xEF\xBB\xBF") {
+        Some(rest) => (rest, true),
+        None => (src, false),
+    };
+    let mut p = Parser::new(strip_dos_eof(src), *opts);
+    if bom {
+        p.diags.push(Diagnostic {
+            severity: Severity::Warning,
+            line: 1,
+            column: 1,
+            width: 1,
+            message: "the file starts with a UTF-8 byte-order mark; it is ignored".into(),
+            note: None,
+        });
+    }
     p.run();
     p.finish()
+}
+
+/// The source without a DOS end-of-file byte (0x1A, Ctrl-Z) at its end, as
+/// old DOS editors and the SPD's DOS builds wrote it.
+fn strip_dos_eof(src: &[u8]) -> &[u8] {
+    let end = src.iter().rposition(|b| !b.is_ascii_whitespace()).map_or(0, |i| i + 1);
+    match src[..end].iter().rposition(|&b| b != 0x1A) {
+        Some(i) if i + 1 < end => &src[..i + 1],
+        None if end > 0 => &[],
+        _ => src,
+    }
 }
 
 /// More errors than this and the reader stops: the file is probably not NFF.
@@ -77,10 +113,23 @@ const MAX_VERTICES: u64 = 1 << 24;
 const MAX_RESOLUTION: u64 = 1 << 16;
 
 const ENTITY_KEYWORDS: [&[u8]; 8] = [b"v", b"b", b"l", b"f", b"c", b"s", b"p", b"pp"];
+/// The 2017 course's extensions (see the module doc).
+const EXTENSION_KEYWORDS: [&[u8]; 2] = [b"pl", b"aabb"];
 const VIEW_KEYWORDS: [&[u8]; 6] = [b"from", b"at", b"up", b"angle", b"hither", b"resolution"];
 
 fn is_entity_keyword(t: &[u8]) -> bool {
-    ENTITY_KEYWORDS.contains(&t)
+    ENTITY_KEYWORDS.contains(&t) || EXTENSION_KEYWORDS.contains(&t)
+}
+
+/// Where error recovery stops: an entity keyword, or a word (not a number,
+/// not a view keyword) that starts a line, which is then reported as an
+/// unknown entity rather than skipped unseen.
+fn is_recovery_point(t: &Token) -> bool {
+    is_entity_keyword(t.text)
+        || (t.starts_line
+            && t.text.first().is_some_and(|b| b.is_ascii_alphabetic())
+            && !VIEW_KEYWORDS.contains(&t.text)
+            && parse_number(t.text).is_none())
 }
 
 // Rust's float grammar accepts what C's strtod does for NFF's purposes
@@ -109,6 +158,16 @@ impl What<'_> {
     }
 }
 
+/// The values of a view block as they are read.
+#[derive(Default)]
+struct ViewValues {
+    /// from, at, up.
+    vecs: [DVec3; 3],
+    angle: f64,
+    hither: f64,
+    res: [u32; 2],
+}
+
 /// The entity being read, for notes on truncated input.
 #[derive(Clone, Copy)]
 struct Entity<'a> {
@@ -124,6 +183,8 @@ struct Parser<'a> {
     diags: Vec<Diagnostic>,
     errors: usize,
     first_object_line: Option<u32>,
+    /// Whether a `v` keyword was read (even one whose block had errors).
+    view_seen: bool,
     eof: (u32, u32),
 }
 
@@ -140,6 +201,7 @@ impl<'a> Parser<'a> {
             diags: Vec::new(),
             errors: 0,
             first_object_line: None,
+            view_seen: false,
             eof: (1, 1),
         }
     }
@@ -172,6 +234,11 @@ impl<'a> Parser<'a> {
 
     fn warn(&mut self, t: &Token, message: String) {
         let d = self.diag_at(Severity::Warning, t, message);
+        self.diags.push(d);
+    }
+
+    fn note(&mut self, t: &Token, message: String) {
+        let d = self.diag_at(Severity::Note, t, message);
         self.diags.push(d);
     }
 
@@ -287,7 +354,7 @@ impl<'a> Parser<'a> {
 
     fn skip_to_keyword(&mut self) {
         while let Some(t) = self.peek() {
-            if is_entity_keyword(t.text) {
+            if is_recovery_point(&t) {
                 return;
             }
             self.bump();
@@ -320,6 +387,7 @@ impl<'a> Parser<'a> {
             }
             "c" => self.cone(t, e),
             "p" | "pp" => self.polygon(t, e, kw == "pp"),
+            "pl" | "aabb" => self.extension(t, e),
             _ => unreachable!("every entity keyword is matched"),
         }
     }
@@ -328,13 +396,18 @@ impl<'a> Parser<'a> {
         let msg = format!("unknown entity `{}`", t.display());
         if self.opts.lenient {
             let mut d = self.diag_at(Severity::Warning, &t, msg);
-            d.note = Some("skipped up to the next known keyword (--lenient)".into());
+            d.note =
+                Some("skipped up to the next known keyword or line starting with a word (--lenient)".into());
             self.diags.push(d);
             self.skip_to_keyword();
             Ok(())
         } else {
             let mut d = self.error_at(&t, msg);
-            d.note = Some("NFF entities are v, b, l, f, c, s, p, pp; --lenient skips unknown ones".into());
+            d.note = Some(
+                "NFF entities are v, b, l, f, c, s, p, pp (and the extensions pl, aabb); \
+                 --lenient skips unknown ones"
+                    .into(),
+            );
             Err(d)
         }
     }
@@ -406,6 +479,16 @@ impl<'a> Parser<'a> {
         }
         if base_radius == 0.0 && apex_radius == 0.0 {
             self.warn(&t, "cone with both radii 0 is invisible".into());
+        } else if apex_radius.abs() > base_radius.abs() {
+            self.warn(
+                &t,
+                format!(
+                    "cone apex radius {} exceeds its base radius {}; NFF.TXT defines the apex radius \
+                     as the smaller (the cone renders, but other readers may swap or reject it)",
+                    apex_radius.abs(),
+                    base_radius.abs()
+                ),
+            );
         }
         self.object(t, Shape::Cone { base, base_radius, apex, apex_radius });
         Ok(())
@@ -433,14 +516,61 @@ impl<'a> Parser<'a> {
         Ok(())
     }
 
+    /// `pl` and `aabb`: the course extensions (module doc).
+    fn extension(&mut self, t: Token<'a>, e: Entity) -> Res<()> {
+        if self.opts.strict {
+            let mut d = self.error_at(&t, format!("`{}` is not NFF (--strict)", e.keyword));
+            d.note = Some(
+                "`pl` (plane through three points) and `aabb` (axis-aligned box) are extensions \
+                 from the 2017 course files; without --strict they are read"
+                    .into(),
+            );
+            return Err(d);
+        }
+        let shape = if e.keyword == "pl" {
+            let what = What::Text("a plane point coordinate");
+            let points = [self.vec3(what, e)?, self.vec3(what, e)?, self.vec3(what, e)?];
+            let [a, b, c] = points;
+            if (b - a).cross(c - a).length_squared() == 0.0 {
+                return Err(
+                    self.error_at(&t, "the three points of `pl` lie on one line: they make no plane".into())
+                );
+            }
+            self.note(&t, "`pl` (infinite plane through three points) is a course extension to NFF".into());
+            Shape::Plane { points }
+        } else {
+            let what = What::Text("a box corner coordinate");
+            let (lo, hi) = (self.vec3(what, e)?, self.vec3(what, e)?);
+            if lo.cmpgt(hi).any() {
+                self.warn(
+                    &t,
+                    "`aabb` corners are not min then max on every axis; using them as opposite corners"
+                        .into(),
+                );
+            }
+            if lo.cmpeq(hi).any() {
+                self.warn(&t, "`aabb` box is flat (zero extent on an axis)".into());
+            }
+            self.note(&t, "`aabb` (axis-aligned box) is a course extension to NFF".into());
+            Shape::Box { min: lo.min(hi), max: lo.max(hi) }
+        };
+        self.object(t, shape);
+        Ok(())
+    }
+
+    /// The `v` block. Every error in it is reported: a broken line is
+    /// skipped up to the next view keyword, a missing line is reported where
+    /// it was expected, and the values are checked as far as they were read.
     fn view(&mut self, t: Token<'a>, e: Entity) -> Res<()> {
+        self.view_seen = true;
         if self.scene.view.is_some() {
             self.warn(&t, "second view (`v`); it replaces the first".into());
         }
         self.warn_if_after_objects(&t, "view");
         let mut seen: [Option<Token<'a>>; 6] = [None; 6];
-        let mut vecs = [DVec3::ZERO; 3];
-        let (mut angle, mut hither, mut res) = (0.0, 0.0, [0u32; 2]);
+        let mut ok = [false; 6];
+        let mut v = ViewValues::default();
+        let mut errors = Vec::new();
         while let Some(k) = self.peek() {
             let Some(i) = VIEW_KEYWORDS.iter().position(|w| *w == k.text) else { break };
             self.bump();
@@ -448,67 +578,125 @@ impl<'a> Parser<'a> {
                 self.warn(&k, format!("`{}` given twice in one view; the last one counts", k.display()));
             }
             seen[i] = Some(k);
-            match i {
-                0..=2 => {
-                    vecs[i] = self.vec3(
-                        What::Text(["a `from` coordinate", "an `at` coordinate", "an `up` coordinate"][i]),
-                        e,
-                    )?
-                }
-                3 => angle = self.number(What::Text("the field of view angle in degrees"), e)?,
-                4 => hither = self.number(What::Text("the hither distance"), e)?,
-                _ => {
-                    for r in &mut res {
-                        *r = self.count("a resolution in pixels", 1, MAX_RESOLUTION, e)?.0 as u32;
+            match self.view_line(i, e, &mut v) {
+                Ok(()) => ok[i] = true,
+                Err(d) => {
+                    errors.push(d);
+                    while let Some(n) = self.peek() {
+                        if VIEW_KEYWORDS.contains(&n.text) || is_recovery_point(&n) {
+                            break;
+                        }
+                        self.bump();
                     }
                 }
             }
         }
-        for (i, kw) in VIEW_KEYWORDS.iter().enumerate() {
-            if seen[i].is_none() && i != 4 {
-                let mut d =
-                    self.error_at(&t, format!("the view has no `{}` line", String::from_utf8_lossy(kw)));
-                d.note = Some(
-                    "a view is: v, from x y z, at x y z, up x y z, angle deg, hither d, resolution w h"
-                        .into(),
-                );
-                return Err(d);
-            }
+        for i in (0..6).filter(|&i| seen[i].is_none() && i != 4) {
+            errors.push(self.missing_view_line(i, &seen));
         }
         if seen[4].is_none() {
             self.warn(&t, "the view has no `hither` line; using 0".into());
         }
-        let [from, at, up] = vecs;
-        let at_tok = seen[1].unwrap();
-        if from == at {
-            return Err(self.error_at(&at_tok, "`at` is the same point as `from`: no view direction".into()));
+        errors.extend(self.check_view(&seen, &ok, &mut v));
+        let Some(last) = errors.pop() else {
+            let ViewValues { vecs: [from, at, up], angle, hither, res } = v;
+            self.scene.view = Some(View { from, at, up, angle, hither, resolution: res });
+            return Ok(());
+        };
+        for d in errors {
+            self.push_error(d);
         }
-        let dir = (at - from).normalize();
-        let up_tok = seen[2].unwrap();
-        if up.length() == 0.0 || up.normalize().cross(dir).length() < 1e-9 {
-            return Err(self.error_at(&up_tok, "`up` is zero or parallel to the view direction".into()));
+        Err(last)
+    }
+
+    /// The values after view keyword `i`.
+    fn view_line(&mut self, i: usize, e: Entity, v: &mut ViewValues) -> Res<()> {
+        match i {
+            0..=2 => {
+                let what = ["a `from` coordinate", "an `at` coordinate", "an `up` coordinate"][i];
+                v.vecs[i] = self.vec3(What::Text(what), e)?;
+            }
+            3 => v.angle = self.number(What::Text("the field of view angle in degrees"), e)?,
+            4 => v.hither = self.number(What::Text("the hither distance"), e)?,
+            _ => {
+                for r in &mut v.res {
+                    *r = self.count("a resolution in pixels", 1, MAX_RESOLUTION, e)?.0 as u32;
+                }
+            }
         }
-        if !(angle > 0.0 && angle < 180.0) {
-            let angle_tok = seen[3].unwrap();
-            return Err(self
-                .error_at(&angle_tok, format!("`angle` must be between 0 and 180 degrees, found {angle}")));
-        }
-        if hither < 0.0 {
-            self.warn(&seen[4].unwrap(), format!("negative hither {hither}; using 0"));
-            hither = 0.0;
-        }
-        self.scene.view = Some(View { from, at, up, angle, hither, resolution: res });
         Ok(())
     }
 
+    /// "expected `at`, found `up`": at the next view line present, or at
+    /// whatever follows the block.
+    fn missing_view_line(&mut self, i: usize, seen: &[Option<Token<'a>>; 6]) -> Diagnostic {
+        let kw = String::from_utf8_lossy(VIEW_KEYWORDS[i]);
+        let note = Some(
+            "a view is: v, from x y z, at x y z, up x y z, angle deg, hither d, resolution w h".to_string(),
+        );
+        let found = seen[i + 1..].iter().flatten().next().copied().or_else(|| self.peek());
+        match found {
+            Some(f) => {
+                let mut d =
+                    self.error_at(&f, format!("expected the view's `{kw}` line, found `{}`", f.display()));
+                d.note = note;
+                d
+            }
+            None => Diagnostic {
+                severity: Severity::Error,
+                line: self.eof.0,
+                column: self.eof.1,
+                width: 1,
+                message: format!("unexpected end of file: expected the view's `{kw}` line"),
+                note,
+            },
+        }
+    }
+
+    /// The checks on the view's values, each run when the lines it needs
+    /// were read.
+    fn check_view(
+        &mut self,
+        seen: &[Option<Token<'a>>; 6],
+        ok: &[bool; 6],
+        v: &mut ViewValues,
+    ) -> Vec<Diagnostic> {
+        let mut errors = Vec::new();
+        let [from, at, up] = v.vecs;
+        if ok[0] && ok[1] && from == at {
+            let at_tok = seen[1].expect("a line read is a line seen");
+            errors.push(self.error_at(&at_tok, "`at` is the same point as `from`: no view direction".into()));
+        } else if ok[0] && ok[1] && ok[2] {
+            let dir = (at - from).normalize();
+            if up.length() == 0.0 || up.normalize().cross(dir).length() < 1e-9 {
+                let up_tok = seen[2].expect("a line read is a line seen");
+                errors.push(self.error_at(&up_tok, "`up` is zero or parallel to the view direction".into()));
+            }
+        }
+        if ok[3] && !(v.angle > 0.0 && v.angle < 180.0) {
+            let angle_tok = seen[3].expect("a line read is a line seen");
+            errors.push(self.error_at(
+                &angle_tok,
+                format!("`angle` must be between 0 and 180 degrees, found {}", v.angle),
+            ));
+        }
+        if ok[4] && v.hither < 0.0 {
+            let hither_tok = seen[4].expect("a line read is a line seen");
+            self.warn(&hither_tok, format!("negative hither {}; using 0", v.hither));
+            v.hither = 0.0;
+        }
+        errors
+    }
+
     fn finish(mut self) -> Result<Parsed, ParseError> {
-        if self.scene.view.is_none() && !self.opts.fragment && self.errors == 0 {
+        if !self.view_seen && !self.opts.fragment {
+            // Reported where the file ends, after whatever else is wrong.
             self.push_error(Diagnostic {
                 severity: Severity::Error,
-                line: 1,
-                column: 1,
+                line: self.eof.0,
+                column: self.eof.1,
                 width: 1,
-                message: "no view (`v` block): a scene needs a camera".into(),
+                message: "the file has no view (`v` block): a scene needs a camera".into(),
                 note: Some(
                     "a file meant to be appended to another scene is a fragment (render --check --fragment)"
                         .into(),

@@ -127,6 +127,14 @@ impl<W: Write> NffWriter<W> {
             }
             Shape::Polygon { vertices } => self.polygon(vertices),
             Shape::Patch { vertices, normals } => self.patch(vertices, normals),
+            Shape::Plane { points: [a, b, c] } => {
+                self.out.write_all(b"pl ")?;
+                self.nums(&[a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z])
+            }
+            Shape::Box { min, max } => {
+                self.out.write_all(b"aabb ")?;
+                self.nums(&[min.x, min.y, min.z, max.x, max.y, max.z])
+            }
         }
     }
 }

@@ -15,7 +15,7 @@ impl Intersector for BruteForce {
 
     fn scratch(&self, _: &Geometry) {}
 
-    fn intersect(
+    fn intersect_bounded(
         &self,
         geom: &Geometry,
         q: &RayQuery,
@@ -24,13 +24,20 @@ impl Intersector for BruteForce {
         c: &mut Counters,
     ) -> Option<Hit> {
         let mut best = None;
-        for id in 0..geom.len() as u32 {
+        for id in 0..geom.bounded_len() as u32 {
             test_prim(geom, id, q, &mut best, t_max, c);
         }
         best
     }
 
-    fn occluded(&self, geom: &Geometry, q: &RayQuery, t_max: f32, _: &mut (), c: &mut Counters) -> bool {
-        (0..geom.len() as u32).any(|id| test_shadow(geom, id, q, t_max, c))
+    fn occluded_bounded(
+        &self,
+        geom: &Geometry,
+        q: &RayQuery,
+        t_max: f32,
+        _: &mut (),
+        c: &mut Counters,
+    ) -> bool {
+        (0..geom.bounded_len() as u32).any(|id| test_shadow(geom, id, q, t_max, c))
     }
 }

@@ -1,7 +1,9 @@
 //! The P3D report's uniform grid (§3), with mailboxes (§4.2)
 //! made safe for many threads.
 //!
-//! - World box: the union of the primitives' boxes.
+//! - World box: the union of the primitives' boxes. Infinite planes (`pl`)
+//!   have none: they stay out of the grid, which covers only the bounded
+//!   primitives, and the [`Intersector`] tests them beside the walk.
 //! - Cells per axis, formula (1): `size × M × cbrt(n / volume) + 1`, floored;
 //!   M = 0 gives a single cell.
 //! - Filling, Algorithm 2: each primitive goes into every cell its box
@@ -99,7 +101,7 @@ impl Grid {
     /// Build with density multiplier `m`.
     pub fn build(geom: &Geometry, m: f32, mailbox: bool) -> Grid {
         let t0 = Instant::now();
-        let n = geom.len();
+        let n = geom.bounded_len();
         let boxes: Vec<Aabb> = (0..n as u32).map(|id| geom.bounds(id)).collect();
         let bounds = boxes.iter().fold(Aabb::EMPTY, |a, b| a.union(*b));
         let bounds = if n == 0 { Aabb::new(Vec3A::ZERO, Vec3A::ZERO) } else { bounds };
@@ -266,7 +268,7 @@ impl Intersector for Grid {
         Mailbox::new(if self.mailbox { self.prim_count } else { 0 })
     }
 
-    fn intersect(
+    fn intersect_bounded(
         &self,
         geom: &Geometry,
         q: &RayQuery,
@@ -286,7 +288,7 @@ impl Intersector for Grid {
         best
     }
 
-    fn occluded(
+    fn occluded_bounded(
         &self,
         geom: &Geometry,
         q: &RayQuery,

@@ -3,6 +3,11 @@
 //!
 //! The renderer matches on [`Accel`] once per image and then runs code
 //! generic over [`Intersector`], so the hot loop has no dynamic dispatch.
+//!
+//! Infinite planes (the course files' `pl`) have no box, so no structure
+//! holds them: each is built over the bounded ids only, and
+//! [`Intersector::intersect`] and [`Intersector::occluded`] test the planes
+//! beside it, under the same tie rule (planes have the highest ids).
 
 mod brute;
 mod bvh;
@@ -25,9 +30,10 @@ pub trait Intersector: Sync {
     /// Fresh scratch state for one render thread.
     fn scratch(&self, geom: &Geometry) -> Self::Scratch;
 
-    /// The nearest hit in `(q.t_min, t_max)`; at equal distance, the lowest
-    /// primitive id (so every accelerator returns the same hit).
-    fn intersect(
+    /// The nearest hit among the bounded primitives (ids
+    /// `0..geom.bounded_len()`) in `(q.t_min, t_max)`; at equal distance,
+    /// the lowest primitive id (so every accelerator returns the same hit).
+    fn intersect_bounded(
         &self,
         geom: &Geometry,
         q: &RayQuery,
@@ -36,9 +42,9 @@ pub trait Intersector: Sync {
         c: &mut Counters,
     ) -> Option<Hit>;
 
-    /// Whether anything lies in `(q.t_min, t_max)` (shadow rays); stops at the
+    /// Whether a bounded primitive lies in `(q.t_min, t_max)`; stops at the
     /// first occluder.
-    fn occluded(
+    fn occluded_bounded(
         &self,
         geom: &Geometry,
         q: &RayQuery,
@@ -46,6 +52,39 @@ pub trait Intersector: Sync {
         scratch: &mut Self::Scratch,
         c: &mut Counters,
     ) -> bool;
+
+    /// The nearest hit in `(q.t_min, t_max)` over every primitive, planes
+    /// included; ties go to the lowest id.
+    #[inline]
+    fn intersect(
+        &self,
+        geom: &Geometry,
+        q: &RayQuery,
+        t_max: f32,
+        scratch: &mut Self::Scratch,
+        c: &mut Counters,
+    ) -> Option<Hit> {
+        let mut best = self.intersect_bounded(geom, q, t_max, scratch, c);
+        for id in geom.plane_ids() {
+            test_prim(geom, id, q, &mut best, t_max, c);
+        }
+        best
+    }
+
+    /// Whether anything lies in `(q.t_min, t_max)` (shadow rays), planes
+    /// first: they are few and, being infinite, likely to block.
+    #[inline]
+    fn occluded(
+        &self,
+        geom: &Geometry,
+        q: &RayQuery,
+        t_max: f32,
+        scratch: &mut Self::Scratch,
+        c: &mut Counters,
+    ) -> bool {
+        geom.plane_ids().any(|id| test_shadow(geom, id, q, t_max, c))
+            || self.occluded_bounded(geom, q, t_max, scratch, c)
+    }
 }
 
 /// The accelerator kinds a user chooses from.

@@ -77,7 +77,7 @@ struct Task {
 /// The binary tree over every primitive of `geom` and the primitive ids in
 /// leaf order (the order `BvhNode::link` of a leaf indexes).
 pub fn build_binary(geom: &Geometry) -> (Vec<BvhNode>, Vec<u32>) {
-    let mut prims: Vec<BuildPrim> = (0..geom.len() as u32)
+    let mut prims: Vec<BuildPrim> = (0..geom.bounded_len() as u32)
         .into_par_iter()
         .map(|id| {
             let bounds = geom.bounds(id);

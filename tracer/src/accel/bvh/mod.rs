@@ -55,7 +55,7 @@ impl Intersector for Bvh {
     }
 
     #[inline]
-    fn intersect(
+    fn intersect_bounded(
         &self,
         geom: &Geometry,
         q: &RayQuery,
@@ -111,7 +111,7 @@ impl Intersector for Bvh {
     }
 
     #[inline]
-    fn occluded(
+    fn occluded_bounded(
         &self,
         geom: &Geometry,
         q: &RayQuery,
