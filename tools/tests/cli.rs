@@ -295,3 +295,65 @@ fn every_binary_has_its_own_help_and_no_build_machine_path() {
     }
     assert_eq!(abouts.len(), bins.len(), "binaries share an about text: {abouts:?}");
 }
+
+#[test]
+fn spd_stats_prints_the_published_figures_for_sphereflake_level_4() {
+    let dir = tempfile::tempdir().unwrap();
+    let nff = dir.path().join("balls.nff");
+    let o = run(SPHEREFLAKE, &["--level", "4", "-o", nff.to_str().unwrap()], None);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = dir.path().join("b.png");
+    let o = run(RENDER, &[nff.to_str().unwrap(), "-o", out.to_str().unwrap(), "--spd-stats", "-q"], None);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("SPD published figures: balls at size 4"), "{text}");
+    // Every row within the Readme's 10%.
+    for row in ["eye hit rays", "reflect rays", "refract rays", "shadow rays"] {
+        let line =
+            text.lines().find(|l| l.trim_start().starts_with(row)).unwrap_or_else(|| panic!("{row}: {text}"));
+        let diff: f64 = line.split_whitespace().last().unwrap().trim_end_matches('%').parse().unwrap();
+        assert!(diff.abs() < 10.0, "{line}");
+    }
+    assert!(text.contains("eye 263169 (263169 hit)"), "{text}");
+}
+
+#[test]
+fn check_notes_course_extensions_and_warns_of_a_scene_without_lights() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("course.nff");
+    std::fs::write(
+        &f,
+        "v\nfrom 0 2 8\nat 0 0 0\nup 0 1 0\nangle 45\nhither 0.1\nresolution 32 32\n\
+         pl 0 0 0 1 0 0 0 0 -1\naabb -1 0 -1 1 1 1\n",
+    )
+    .unwrap();
+    let path = f.to_str().unwrap();
+    let o = run(RENDER, &["--check", path], None);
+    assert!(o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("note: `pl` (infinite plane through three points) is a course extension"), "{err}");
+    assert!(err.contains("course.nff:9:1"), "{err}");
+    assert!(err.contains("warning: the scene has no lights"), "{err}");
+    let summary = String::from_utf8_lossy(&o.stdout);
+    assert!(summary.contains("(1 plane, 1 box)") && summary.contains("2 notes"), "{summary}");
+    // --strict refuses them; rendering warns of the missing light, and
+    // --ambient lights the scene.
+    let o = run(RENDER, &["--check", "--strict", path], None);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("`pl` is not NFF (--strict)"));
+    let out = dir.path().join("c.png");
+    let o = run(RENDER, &[path, "-o", out.to_str().unwrap()], None);
+    assert!(o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("no lights") && !err.contains("note:"), "{err}");
+    let dark = png(&out);
+    let o = run(RENDER, &[path, "-o", out.to_str().unwrap(), "--ambient", "spd"], None);
+    assert!(o.status.success());
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("no lights"));
+    let lit = png(&out);
+    let sum = |img: &image::RgbImage| img.pixels().map(|p| p.0[0] as u64).sum::<u64>();
+    assert!(sum(&lit) > sum(&dark) + 32 * 32 * 20, "ambient lights the plane and the box");
+    let o = run(RENDER, &[path, "-o", out.to_str().unwrap(), "--ambient", "bright"], None);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("expected a number or `spd`"));
+}
