@@ -1,7 +1,17 @@
 //! The anti-aliasing demonstration: the checkerboard rendered with every
-//! sampler at several sample counts, compared with a high-sample reference.
-//! Produces a labelled contact sheet, an error table and a log-log
-//! convergence plot.
+//! sampler at several sample counts and with every filter, compared with a
+//! high-sample reference. Produces the demo page ([`page`]: sample patterns,
+//! magnified crops of the horizon, errors, a log-log convergence plot with
+//! fitted slopes, and optionally the P3D report's figures), plus a labelled
+//! contact sheet, an error table and the plot as separate files.
+//!
+//! Every render is a job run in parallel (each render is itself parallel
+//! over tiles), and every image is a pure function of its settings, so the
+//! page is the same on any number of cores.
+
+pub mod figures;
+pub mod page;
+pub mod patterns;
 
 use crate::metrics;
 use crate::planegen::Board;
@@ -9,9 +19,11 @@ use crate::text::draw_text;
 use anyhow::Result;
 use nffkit_formats::image_io::RgbImage;
 use nffkit_tracer::film::Film;
-use nffkit_tracer::prepare::{prepare, PrepareOptions};
+use nffkit_tracer::filter::FilterKind;
+use nffkit_tracer::prepare::{prepare, PrepareOptions, RenderScene};
 use nffkit_tracer::render::{render, RenderSettings};
 use nffkit_tracer::sampling::{Sampler, SamplerKind};
+use rayon::prelude::*;
 use std::fmt::Write as _;
 
 /// What to render.
@@ -23,6 +35,12 @@ pub struct DemoConfig {
     pub spps: Vec<u32>,
     /// Samplers to compare.
     pub samplers: Vec<SamplerKind>,
+    /// Filters to compare, on `filter_sampler` at `filter_spp`.
+    pub filters: Vec<FilterKind>,
+    /// The pattern of the filter row.
+    pub filter_sampler: SamplerKind,
+    /// The sample count of the filter row.
+    pub filter_spp: u32,
     /// Samples per pixel of the reference (Sobol).
     pub reference_spp: u32,
     /// Squares per side of the board.
@@ -37,6 +55,9 @@ impl Default for DemoConfig {
             size: 128,
             spps: vec![1, 4, 16, 64],
             samplers: SamplerKind::ALL.to_vec(),
+            filters: FilterKind::ALL.to_vec(),
+            filter_sampler: SamplerKind::MultiJittered,
+            filter_spp: 16,
             reference_spp: 1024,
             squares: 32,
             seed: 1,
@@ -44,10 +65,22 @@ impl Default for DemoConfig {
     }
 }
 
+impl DemoConfig {
+    /// The magnified region: just below the board's horizon, where the
+    /// squares shrink below a pixel, as `(x0, y0, width, height)`.
+    pub fn crop(&self) -> (u32, u32, u32, u32) {
+        let s = self.size;
+        let (w, h) = ((s / 8).max(4), (s * 3 / 32).max(3));
+        ((s - w) / 2, (s * 5 / 16).min(s - h), w, h)
+    }
+}
+
 /// One rendered tile and its error.
 pub struct DemoTile {
     /// Sampler.
     pub kind: SamplerKind,
+    /// Filter.
+    pub filter: FilterKind,
     /// Samples per pixel actually taken.
     pub spp: u32,
     /// The image.
@@ -56,46 +89,107 @@ pub struct DemoTile {
     pub rmse: f64,
     /// Mean structural similarity (luminance, 8x8 windows) to the reference.
     pub ssim: f64,
+    /// Mean FLIP error against the reference.
+    pub flip: f64,
 }
 
 /// Everything the demo produced.
 pub struct DemoResult {
     /// The reference image.
     pub reference: Film,
-    /// Tiles, sampler-major.
+    /// Tiles, sampler-major, one per sample count, all with the box filter.
     pub tiles: Vec<DemoTile>,
+    /// One tile per filter, on the filter row's pattern and count.
+    pub filter_tiles: Vec<DemoTile>,
 }
 
-/// Render every tile.
-pub fn run(cfg: &DemoConfig, progress: &dyn Fn(&str)) -> Result<DemoResult> {
-    let board = Board { nx: cfg.squares, ny: cfg.squares, ..Default::default() };
-    let scene = board.scene();
+impl DemoResult {
+    /// The tiles of one sampler, by increasing sample count.
+    pub fn sampler_tiles(&self, kind: SamplerKind) -> impl Iterator<Item = &DemoTile> {
+        self.tiles.iter().filter(move |t| t.kind == kind)
+    }
+}
+
+/// The board the demo renders, prepared at the demo's size.
+pub fn board(cfg: &DemoConfig) -> Result<RenderScene> {
+    let scene = Board { nx: cfg.squares, ny: cfg.squares, ..Default::default() }.scene();
     let opts = PrepareOptions { width: Some(cfg.size), height: Some(cfg.size), ..Default::default() };
-    let prepared = prepare(&scene, &opts)?;
-    let shoot = |kind: SamplerKind, spp: u32| {
+    Ok(prepare(&scene, &opts)?)
+}
+
+/// Render every tile, in parallel; `tick` is called after each render with
+/// (done, total).
+pub fn run(cfg: &DemoConfig, tick: &(dyn Fn(usize, usize) + Sync)) -> Result<DemoResult> {
+    let prepared = board(cfg)?;
+    let shoot = |kind: SamplerKind, spp: u32, filter: FilterKind| {
         let settings = RenderSettings {
             sampler: Sampler::new(kind, spp, cfg.seed).0,
             centre_single_sample: false,
+            filter,
             ..Default::default()
         };
         render(&prepared, &settings, &|_, _| {}).film
     };
-    progress(&format!("reference: sobol, {} spp", cfg.reference_spp));
-    let reference = shoot(SamplerKind::Sobol, cfg.reference_spp);
-    let reference_image = reference.to_image();
-    let mut tiles = Vec::new();
+    // Job 0 is the reference; then samplers x counts; then filters.
+    let mut jobs = vec![(SamplerKind::Sobol, cfg.reference_spp, FilterKind::Box)];
     for &kind in &cfg.samplers {
-        for &spp in &cfg.spps {
-            let sampler = Sampler::new(kind, spp, cfg.seed).0;
-            progress(&format!("{kind}, {} spp", sampler.spp));
-            let film = shoot(kind, spp);
-            let image = film.to_image();
-            let rmse = metrics::rmse(&image, &reference_image);
-            let ssim = metrics::mean_ssim(&image, &reference_image);
-            tiles.push(DemoTile { kind, spp: sampler.spp, film, rmse, ssim });
-        }
+        jobs.extend(cfg.spps.iter().map(|&spp| (kind, spp, FilterKind::Box)));
     }
-    Ok(DemoResult { reference, tiles })
+    jobs.extend(cfg.filters.iter().map(|&f| (cfg.filter_sampler, cfg.filter_spp, f)));
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let mut films: Vec<Film> = jobs
+        .par_iter()
+        .map(|&(kind, spp, filter)| {
+            let film = shoot(kind, spp, filter);
+            tick(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1, jobs.len());
+            film
+        })
+        .collect();
+    let reference = films.remove(0);
+    let reference_image = reference.to_image();
+    let tiles: Vec<DemoTile> = jobs[1..]
+        .par_iter()
+        .zip(films)
+        .map(|(&(kind, spp, filter), film)| {
+            let image = film.to_image();
+            DemoTile {
+                kind,
+                filter,
+                spp: Sampler::new(kind, spp, cfg.seed).0.spp,
+                rmse: metrics::rmse(&image, &reference_image),
+                ssim: metrics::mean_ssim(&image, &reference_image),
+                flip: metrics::flip(&reference_image, &image).mean,
+                film,
+            }
+        })
+        .collect();
+    let split = cfg.samplers.len() * cfg.spps.len();
+    let mut tiles = tiles;
+    let filter_tiles = tiles.split_off(split);
+    Ok(DemoResult { reference, tiles, filter_tiles })
+}
+
+/// Least-squares slope of log(RMSE) against log(spp): the convergence rate
+/// (−1/2 for independent random samples, steeper for stratified patterns).
+pub fn fitted_slope<'a>(tiles: impl Iterator<Item = &'a DemoTile>) -> f64 {
+    let pts: Vec<(f64, f64)> = tiles.map(|t| ((t.spp as f64).ln(), t.rmse.max(1e-9).ln())).collect();
+    let n = pts.len() as f64;
+    let (mx, my) = pts.iter().fold((0.0, 0.0), |(a, b), p| (a + p.0 / n, b + p.1 / n));
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    if sxx == 0.0 {
+        0.0
+    } else {
+        sxy / sxx
+    }
+}
+
+/// `film`'s pixels in the window `(x0, y0, w, h)`, each repeated `k` x `k`
+/// times (nearest neighbour, so every pixel stays exact).
+pub fn magnify(film: &Film, (x0, y0, w, h): (u32, u32, u32, u32), k: u32) -> RgbImage {
+    let (ow, oh) = (w * k, h * k);
+    let pixels = (0..ow * oh).map(|i| film.get(x0 + (i % ow) / k, y0 + (i / ow) / k).to_array()).collect();
+    RgbImage { width: ow, height: oh, pixels }
 }
 
 /// The contact sheet: one row per sampler, one column per sample count, the
@@ -142,29 +236,31 @@ pub fn table(result: &DemoResult, cfg: &DemoConfig) -> String {
     out
 }
 
-/// The convergence plot: RMSE against spp, log-log, one line per sampler.
+/// The convergence plot: RMSE against spp, log-log, one line per sampler
+/// with its fitted slope in the legend, and dashed reference slopes −1/2
+/// (independent random samples) and −1 from the worst 1-spp error.
 pub fn convergence_svg(result: &DemoResult, cfg: &DemoConfig) -> String {
     const COLORS: [&str; 8] =
         ["#e41a1c", "#377eb8", "#4daf4a", "#984ea3", "#ff7f00", "#a65628", "#f781bf", "#333333"];
-    let (w, h, m) = (640.0, 420.0, 60.0);
+    let (w, h, m, legend) = (720.0, 440.0, 60.0, 200.0);
     let errs: Vec<f64> = result.tiles.iter().map(|t| t.rmse.max(1e-6)).collect();
     let (emin, emax) = errs.iter().fold((f64::MAX, f64::MIN), |(a, b), &e| (a.min(e), b.max(e)));
     let (lemin, lemax) = (emin.log10().floor(), emax.log10().ceil().max(emin.log10().floor() + 1.0));
     let spps: Vec<f64> = result.tiles.iter().map(|t| t.spp as f64).collect();
     let (smin, smax) = spps.iter().fold((f64::MAX, f64::MIN), |(a, b), &e| (a.min(e), b.max(e)));
     let (lsmin, lsmax) = (smin.log2(), smax.log2().max(smin.log2() + 1.0));
-    let px = |spp: f64| m + (spp.log2() - lsmin) / (lsmax - lsmin) * (w - 2.0 * m - 120.0);
+    let x1 = w - m - legend;
+    let px = |spp: f64| m + (spp.log2() - lsmin) / (lsmax - lsmin) * (x1 - m);
     let py = |e: f64| h - m - (e.max(1e-6).log10() - lemin) / (lemax - lemin) * (h - 2.0 * m);
     let mut s = format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" font-family=\"sans-serif\" font-size=\"12\">\n\
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" font-family=\"sans-serif\" font-size=\"12\">\n\
          <rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n\
-         <text x=\"{}\" y=\"20\" text-anchor=\"middle\" font-size=\"14\">RMSE against a {}-spp reference (checkerboard, {}x{})</text>\n",
+         <text x=\"{}\" y=\"20\" text-anchor=\"middle\" font-size=\"14\">RMSE against a {}-spp reference (checkerboard, {}x{}), log-log</text>\n",
         w / 2.0,
         cfg.reference_spp,
         cfg.size,
         cfg.size
     );
-    let x1 = w - m - 120.0;
     let _ = writeln!(s, "<line x1=\"{m}\" y1=\"{}\" x2=\"{x1}\" y2=\"{}\" stroke=\"black\"/>", h - m, h - m);
     let _ = writeln!(s, "<line x1=\"{m}\" y1=\"{m}\" x2=\"{m}\" y2=\"{}\" stroke=\"black\"/>", h - m);
     for &spp in &cfg.spps {
@@ -173,7 +269,7 @@ pub fn convergence_svg(result: &DemoResult, cfg: &DemoConfig) -> String {
     }
     let _ = writeln!(
         s,
-        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">samples per pixel (log)</text>",
+        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">samples per pixel (log scale)</text>",
         (m + x1) / 2.0,
         h - 18.0
     );
@@ -183,6 +279,27 @@ pub fn convergence_svg(result: &DemoResult, cfg: &DemoConfig) -> String {
         let _ = writeln!(s, "<text x=\"{}\" y=\"{}\" text-anchor=\"end\">1e{e}</text>", m - 6.0, y + 4.0);
         let _ = writeln!(s, "<line x1=\"{m}\" y1=\"{y}\" x2=\"{x1}\" y2=\"{y}\" stroke=\"#ddd\"/>");
         e += 1.0;
+    }
+    // Reference slopes from the largest 1-spp error, clipped to the plot.
+    let e0 = result.tiles.iter().filter(|t| t.spp as f64 == smin).map(|t| t.rmse).fold(emax, f64::max);
+    for (slope, label) in [(-0.5, "slope −1/2"), (-1.0, "slope −1")] {
+        let floor = 10f64.powf(lemin);
+        let end = smax.min(smin * (floor / e0).powf(1.0 / slope));
+        let e1 = e0 * (end / smin).powf(slope);
+        let _ = writeln!(
+            s,
+            "<line class=\"reference-slope\" x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"#888\" stroke-dasharray=\"6 4\"/>",
+            px(smin),
+            py(e0),
+            px(end),
+            py(e1)
+        );
+        let _ = writeln!(
+            s,
+            "<text x=\"{:.1}\" y=\"{:.1}\" fill=\"#666\">{label}</text>",
+            px(end) - 60.0,
+            py(e1) - 6.0
+        );
     }
     for (k, chunk) in result.tiles.chunks(cfg.spps.len()).enumerate() {
         let color = COLORS[k % COLORS.len()];
@@ -200,7 +317,14 @@ pub fn convergence_svg(result: &DemoResult, cfg: &DemoConfig) -> String {
             x1 + 10.0,
             x1 + 30.0
         );
-        let _ = writeln!(s, "<text x=\"{}\" y=\"{}\">{}</text>", x1 + 35.0, ly + 4.0, chunk[0].kind);
+        let slope = fitted_slope(chunk.iter());
+        let _ = writeln!(
+            s,
+            "<text x=\"{}\" y=\"{}\">{} (slope {slope:.2})</text>",
+            x1 + 35.0,
+            ly + 4.0,
+            chunk[0].kind
+        );
     }
     s += "</svg>\n";
     s

@@ -100,6 +100,10 @@ fn cell(t: &Timing) -> String {
     }
 }
 
+/// `--quick`: image size and brute-force time cap (seconds) for a table made
+/// in well under a minute, as the demo page uses.
+pub const QUICK: (u32, f64) = (128, 1.0);
+
 /// Time every cell: one after another on all cores (`jobs` = 1, the
 /// figures to quote), or `jobs` cells at once, each on one thread (every
 /// core busy, per-thread figures; the cells then compete for memory

@@ -1,14 +1,19 @@
-//! The anti-aliasing demo at small size: stratified and low-discrepancy
-//! samplers beat random at 16 spp on the checkerboard, and the sheet, table
-//! and plot hold every case.
+//! The anti-aliasing demo: stratified and low-discrepancy samplers beat
+//! random on the checkerboard and converge faster; the sample-pattern SVGs
+//! hold exactly the samples with the strata's guarantees; and the page, made
+//! by the binary at a small size, shows every sampler, filter and figure with
+//! every image it references on disk.
 
-use nffkit_tools::aademo::{contact_sheet, convergence_svg, run, table, DemoConfig};
+use nffkit_tools::aademo::{contact_sheet, convergence_svg, fitted_slope, patterns, run, table, DemoConfig};
+use nffkit_tracer::filter::FilterKind;
 use nffkit_tracer::sampling::SamplerKind;
+use std::path::Path;
+use std::process::Command;
 
 #[test]
 fn stratified_samplers_beat_random_at_16_spp() {
     let cfg = DemoConfig { size: 48, spps: vec![4, 16], reference_spp: 256, ..Default::default() };
-    let result = run(&cfg, &|_| {}).unwrap();
+    let result = run(&cfg, &|_, _| {}).unwrap();
     let err = |k: SamplerKind| result.tiles.iter().find(|t| t.kind == k && t.spp == 16).unwrap().rmse;
     let random = err(SamplerKind::Random);
     for k in [
@@ -20,10 +25,110 @@ fn stratified_samplers_beat_random_at_16_spp() {
     ] {
         assert!(err(k) < random, "{k}: {} vs random {random}", err(k));
     }
+    assert_eq!(result.filter_tiles.len(), FilterKind::ALL.len());
     let sheet = contact_sheet(&result, &cfg);
     assert_eq!(sheet.width, 3 * (48 + 4) + 4);
     let t = table(&result, &cfg);
     assert_eq!(t.lines().count(), 2 + SamplerKind::ALL.len());
     let svg = convergence_svg(&result, &cfg);
     assert_eq!(svg.matches("<polyline").count(), SamplerKind::ALL.len());
+    assert_eq!(svg.matches("class=\"reference-slope\"").count(), 2);
+    assert_eq!(svg.matches("(slope ").count(), SamplerKind::ALL.len());
+}
+
+#[test]
+fn jittered_converges_faster_than_random_at_128x128() {
+    let cfg = DemoConfig {
+        size: 128,
+        spps: vec![1, 4, 16, 64],
+        samplers: vec![SamplerKind::Random, SamplerKind::Jittered],
+        filters: vec![],
+        reference_spp: 256,
+        ..Default::default()
+    };
+    let result = run(&cfg, &|_, _| {}).unwrap();
+    let random = fitted_slope(result.sampler_tiles(SamplerKind::Random));
+    let jittered = fitted_slope(result.sampler_tiles(SamplerKind::Jittered));
+    assert!(jittered < random - 0.1, "jittered slope {jittered} vs random {random}");
+    assert!((random + 0.5).abs() < 0.15, "random converges as N^-1/2: {random}");
+}
+
+/// `(x, y)` of every `<circle class="sample">` in a pattern SVG.
+fn samples(svg: &str) -> Vec<(f64, f64)> {
+    svg.lines()
+        .filter(|l| l.contains("class=\"sample\""))
+        .map(|l| (attr(l, "cx").parse().unwrap(), attr(l, "cy").parse().unwrap()))
+        .collect()
+}
+
+fn attr<'a>(tag: &'a str, name: &str) -> &'a str {
+    let start = tag.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
+    let end = start + tag[start..].find('"').unwrap();
+    &tag[start..end]
+}
+
+#[test]
+fn pattern_svgs_hold_the_samples_and_their_strata() {
+    for &kind in SamplerKind::ALL {
+        for n in [16, 64] {
+            let pts = samples(&patterns::svg(kind, n, 1, 128));
+            assert_eq!(pts.len(), n as usize, "{kind} {n}");
+            assert!(pts.iter().all(|&(x, y)| (0.0..1.0).contains(&x) && (0.0..1.0).contains(&y)), "{kind}");
+            let one_per_row_and_column = matches!(
+                kind,
+                SamplerKind::NRooks | SamplerKind::MultiJittered | SamplerKind::CorrelatedMultiJittered
+            );
+            if one_per_row_and_column {
+                for axis in 0..2 {
+                    let mut count = vec![0; n as usize];
+                    for p in &pts {
+                        count[((if axis == 0 { p.0 } else { p.1 }) * n as f64) as usize] += 1;
+                    }
+                    assert!(count.iter().all(|&c| c == 1), "{kind} {n}: {count:?}");
+                }
+            }
+        }
+    }
+    // The drawn strata: multi-jittered shows its coarse grid and sub-grid.
+    let mj = patterns::svg(SamplerKind::MultiJittered, 16, 1, 128);
+    assert_eq!((mj.matches("class=\"coarse\"").count(), mj.matches("class=\"fine\"").count()), (3, 15));
+}
+
+#[test]
+fn the_page_shows_everything_and_every_image_exists() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("demo");
+    let o = Command::new(env!("CARGO_BIN_EXE_aademo"))
+        .args(["--out", out.to_str().unwrap(), "--size", "32", "--spp", "1,4,16", "--reference-spp", "64"])
+        .args(["--figures", "-q"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let html = std::fs::read_to_string(out.join("index.html")).unwrap();
+    let srcs: Vec<&str> = html.match_indices(" src=\"").map(|(i, _)| attr(&html[i..], "src")).collect();
+    assert!(srcs.len() > 50, "{} images", srcs.len());
+    for src in &srcs {
+        assert!(!src.starts_with("http") && !src.starts_with('/'), "not local: {src}");
+        assert!(Path::new(&out).join(src).is_file(), "missing {src}");
+    }
+    for &kind in SamplerKind::ALL {
+        for n in [16, 64] {
+            assert!(srcs.contains(&format!("patterns/{kind}-{n}.svg").as_str()), "{kind} {n}");
+        }
+        for spp in [1, 4, 16] {
+            assert!(srcs.contains(&format!("crops/{kind}-{spp}.png").as_str()), "{kind} crop {spp}");
+        }
+    }
+    for f in FilterKind::ALL {
+        assert!(srcs.contains(&format!("profiles/{f}.svg").as_str()), "{f}");
+        assert!(srcs.contains(&format!("crops/filter-{f}.png").as_str()), "{f}");
+    }
+    for n in 4..=8 {
+        assert!(srcs.contains(&format!("figures/fig{n}.png").as_str()), "figure {n}");
+        assert!(html.contains(&format!("Figure {n}:")), "caption {n}");
+    }
+    assert!(html.contains("planegen --nx 16 --ny 16 | render - --width 256 --height 256 --spp 64"));
+    assert!(html.contains("<th>BVH speedup</th>") && html.matches("<tr>").count() > 6, "Table 1");
+    assert!(html.contains("convergence.svg") && !html.contains("<script"));
 }

@@ -2,25 +2,35 @@
 
 use anyhow::{Context, Result};
 use clap::Parser;
+use indicatif::{ProgressBar, ProgressStyle};
 use nffkit_formats::{atomic, image_io};
-use nffkit_tools::aademo::{contact_sheet, convergence_svg, run, table, DemoConfig};
+use nffkit_tools::aademo::page::{self, FiguresSection};
+use nffkit_tools::aademo::{contact_sheet, figures, run, table, DemoConfig};
 use nffkit_tools::cli_util;
+use nffkit_tools::golden::find_scenes_dir;
+use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-/// Anti-aliasing demonstration: every sampler at several sample counts, compared with a reference.
+/// Anti-aliasing demonstration: a web page comparing every sampler and filter on the checkerboard.
 ///
-/// Render the checkerboard plane with every sampler at several sample
-/// counts; write a labelled contact sheet (contact-sheet.png), the error
-/// table against a high-sample reference (errors.md, also printed) and a
-/// log-log convergence plot (convergence.svg) into the output folder.
+/// Renders the checkerboard plane with every sampler at several sample
+/// counts and with every filter, and writes OUT/index.html: each pattern's
+/// samples in the unit square with its strata (16 and 64 samples), the
+/// render, 8x magnified crops of the horizon with RMSE and FLIP against a
+/// high-sample reference, a filter row with each filter's profile, the
+/// error table and a log-log convergence plot with fitted slopes. With
+/// --figures it also rebuilds the P3D report's figures 4-8 and its Table 1
+/// (`table1 --quick`, which needs the project's scenes/spd). Also written:
+/// contact-sheet.png, errors.md (printed too) and convergence.svg. Renders
+/// run in parallel on every core.
 #[derive(Parser, Debug)]
 #[command(name = "aademo", version)]
 struct Args {
     /// Output folder (created if missing).
     #[arg(short, long, default_value = "aademo")]
     out: PathBuf,
-    /// Tile size in pixels.
+    /// Image size in pixels (square).
     #[arg(long, default_value_t = 128, value_parser = clap::value_parser!(u32).range(16..=1024))]
     size: u32,
     /// Sample counts, comma-separated.
@@ -32,6 +42,29 @@ struct Args {
     /// Seed of the random patterns.
     #[arg(long, default_value_t = 1)]
     seed: u32,
+    /// Also rebuild the P3D report's figures 4-8 and Table 1 on the page.
+    #[arg(long)]
+    figures: bool,
+    /// Worker threads (default: all cores). The page does not depend on it.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    threads: Option<u32>,
+    /// Print nothing but errors and the error table.
+    #[arg(short, long)]
+    quiet: bool,
+}
+
+fn bar(quiet: bool, what: &str) -> Option<ProgressBar> {
+    if quiet || !std::io::stderr().is_terminal() {
+        return None;
+    }
+    let b = ProgressBar::new(1);
+    let style = ProgressStyle::with_template(&format!(
+        "{{spinner}} {what} [{{bar:40}}] {{pos}}/{{len}} ({{elapsed}})"
+    ))
+    .unwrap_or_else(|_| ProgressStyle::default_bar())
+    .progress_chars("=> ");
+    b.set_style(style);
+    Some(b)
 }
 
 fn main_inner(a: &Args) -> Result<()> {
@@ -45,15 +78,69 @@ fn main_inner(a: &Args) -> Result<()> {
         seed: a.seed,
         ..Default::default()
     };
+    // Fail before rendering if Table 1 cannot be made.
+    let spd_dir = if a.figures {
+        let cwd = std::env::current_dir().context("reading the current directory")?;
+        Some(
+            find_scenes_dir(&cwd)
+                .context("--figures runs `table1 --quick` on the project's scenes/spd")?
+                .join("spd"),
+        )
+    } else {
+        None
+    };
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(a.threads.unwrap_or(0) as usize).build()?;
+    let t0 = std::time::Instant::now();
+    let (result, figures) = pool.install(|| -> Result<_> {
+        let b = bar(a.quiet, "rendering");
+        let result = run(&cfg, &|done, total| {
+            if let Some(b) = &b {
+                b.set_length(total as u64);
+                b.set_position(done as u64);
+            }
+        })?;
+        if let Some(b) = b {
+            b.finish_and_clear();
+        }
+        let figures = match &spd_dir {
+            None => None,
+            Some(dir) => {
+                let b = bar(a.quiet, "figures");
+                if let Some(b) = &b {
+                    b.set_length(figures::FIGURES.len() as u64);
+                }
+                let images = figures::render_all(&|| {
+                    if let Some(b) = &b {
+                        b.inc(1);
+                    }
+                })?;
+                if let Some(b) = b {
+                    b.finish_and_clear();
+                }
+                let quiet = a.quiet;
+                let (size, cap) = nffkit_tools::table1::QUICK;
+                let table1 = nffkit_tools::table1::table(dir, size, cap, 1, &|what| {
+                    if !quiet {
+                        eprintln!("table1: timing {what}");
+                    }
+                })?;
+                Some(FiguresSection { images, table1 })
+            }
+        };
+        Ok((result, figures))
+    })?;
     std::fs::create_dir_all(&a.out).with_context(|| format!("cannot create {}", a.out.display()))?;
-    let result = run(&cfg, &|what| eprintln!("rendering {what}"))?;
-    let sheet = a.out.join("contact-sheet.png");
-    image_io::save(&contact_sheet(&result, &cfg), &sheet, false)?;
+    // The command as the user would type it, without the binary's folder.
+    let command =
+        std::iter::once("aademo".to_string()).chain(std::env::args().skip(1)).collect::<Vec<_>>().join(" ");
+    let index = page::write(&a.out, &cfg, &result, figures.as_ref(), &command)?;
+    image_io::save(&contact_sheet(&result, &cfg), &a.out.join("contact-sheet.png"), false)?;
     let t = table(&result, &cfg);
     atomic::write_bytes(&a.out.join("errors.md"), t.as_bytes())?;
-    atomic::write_bytes(&a.out.join("convergence.svg"), convergence_svg(&result, &cfg).as_bytes())?;
     print!("{t}");
-    eprintln!("wrote {}, errors.md and convergence.svg", sheet.display());
+    if !a.quiet {
+        eprintln!("wrote {} in {:.1} s", index.display(), t0.elapsed().as_secs_f64());
+    }
     Ok(())
 }
 

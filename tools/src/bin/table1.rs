@@ -31,6 +31,10 @@ struct Args {
     /// The images rendered do not depend on it.
     #[arg(long, short, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
     jobs: u32,
+    /// A quick table: 128x128 and a 1 s brute-force cap (what `aademo
+    /// --figures` shows), overriding --size and --cap.
+    #[arg(long)]
+    quick: bool,
 }
 
 fn run(a: &Args) -> Result<()> {
@@ -40,7 +44,8 @@ fn run(a: &Args) -> Result<()> {
             find_scenes_dir(&std::env::current_dir().context("reading the current directory")?)?.join("spd")
         }
     };
-    let t = nffkit_tools::table1::table(&spd_dir, a.size, a.cap, a.jobs as usize, &|what| {
+    let (size, cap) = if a.quick { nffkit_tools::table1::QUICK } else { (a.size, a.cap) };
+    let t = nffkit_tools::table1::table(&spd_dir, size, cap, a.jobs as usize, &|what| {
         eprintln!("timing {what}")
     })?;
     print!("{t}");

@@ -1,0 +1,81 @@
+//! Sample patterns drawn as the literature draws them: the points of one
+//! pixel in the unit square, over the strata the pattern guarantees. A
+//! jittered pattern has one point per cell of its √n x √n grid; n-rooks has
+//! one per row and per column of an n x n board (the P3D report's chess
+//! rooks); multi-jittered has both, so it is drawn with the √n x √n grid
+//! and, finer, its n x n sub-grid (the report's §4.1). Hammersley and Sobol
+//! at powers of two are (0, m, 2)-nets, which include the n-rooks property.
+//!
+//! The SVG's user space is the unit square itself (y down, as in the image),
+//! so each `<circle class="sample">` holds a sample's coordinates exactly.
+
+use nffkit_tracer::sampling::{Sampler, SamplerKind};
+use std::fmt::Write as _;
+
+/// The strata drawn for a pattern of `n` samples: the coarse grid's cells
+/// per side and the fine grid's (0: none).
+pub fn strata(kind: SamplerKind, n: u32) -> (u32, u32) {
+    let root = (n as f64).sqrt().round() as u32;
+    match kind {
+        SamplerKind::Random => (0, 0),
+        SamplerKind::Regular | SamplerKind::Jittered => (root, 0),
+        SamplerKind::NRooks => (0, n),
+        SamplerKind::MultiJittered | SamplerKind::CorrelatedMultiJittered => (root, n),
+        SamplerKind::Hammersley | SamplerKind::Sobol => (0, if n.is_power_of_two() { n } else { 0 }),
+    }
+}
+
+/// The `n` sample positions of pixel (0, 0), dimension 0, in [0, 1)².
+pub fn points(kind: SamplerKind, n: u32, seed: u32) -> Vec<[f32; 2]> {
+    let sampler = Sampler::new(kind, n, seed).0;
+    (0..sampler.spp).map(|i| sampler.sample(0, 0, i, 0).to_array()).collect()
+}
+
+/// The pattern as a standalone SVG of `px` pixels square.
+pub fn svg(kind: SamplerKind, n: u32, seed: u32, px: u32) -> String {
+    let pts = points(kind, n, seed);
+    let (coarse, fine) = strata(kind, pts.len() as u32);
+    let mut s = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{px}\" height=\"{px}\" viewBox=\"-0.02 -0.02 1.04 1.04\">\n\
+         <title>{kind}, {} samples</title>\n\
+         <rect x=\"0\" y=\"0\" width=\"1\" height=\"1\" fill=\"white\" stroke=\"black\" stroke-width=\"0.006\"/>\n",
+        pts.len()
+    );
+    for (cells, class, width, colour) in
+        [(fine, "fine", 0.002, "#c8d4e8"), (coarse, "coarse", 0.005, "#5577aa")]
+    {
+        for k in 1..cells {
+            let v = k as f64 / cells as f64;
+            let _ = writeln!(
+                s,
+                "<path class=\"{class}\" d=\"M{v} 0V1M0 {v}H1\" stroke=\"{colour}\" stroke-width=\"{width}\"/>"
+            );
+        }
+    }
+    let r = (0.35 / (pts.len() as f64).sqrt()).clamp(0.008, 0.03);
+    for [x, y] in &pts {
+        let _ = writeln!(s, "<circle class=\"sample\" cx=\"{x}\" cy=\"{y}\" r=\"{r:.4}\" fill=\"#d62728\"/>");
+    }
+    s += "</svg>\n";
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn multi_jittered_has_one_point_per_row_column_and_cell() {
+        for n in [16u32, 64] {
+            let pts = points(SamplerKind::MultiJittered, n, 1);
+            let root = (n as f64).sqrt() as u32;
+            let mut rows = vec![0; n as usize];
+            let mut cells = vec![0; n as usize];
+            for [x, y] in pts {
+                rows[(y * n as f32) as usize] += 1;
+                cells[((y * root as f32) as u32 * root + (x * root as f32) as u32) as usize] += 1;
+            }
+            assert!(rows.iter().chain(&cells).all(|&c| c == 1));
+        }
+    }
+}
