@@ -87,7 +87,7 @@ fn text(s: &str) -> Result<Text> {
 fn counters_line(c: &Counters) -> String {
     let tests: Vec<String> = c.tests.iter().map(|(k, n)| format!("{}={n}", <&str>::from(k))).collect();
     format!(
-        "eye={} eye_hits={} reflected={} refracted={} shadow={} visits={} mailbox={} {}",
+        "eye={} eye_hits={} reflected={} refracted={} shadow={} visits={} mailbox={} shadow_cache={} {}",
         c.eye,
         c.eye_hits,
         c.reflected,
@@ -95,6 +95,7 @@ fn counters_line(c: &Counters) -> String {
         c.shadow,
         c.visits,
         c.mailbox_hits,
+        c.shadow_cache_hits,
         tests.join(" ")
     )
 }
@@ -112,6 +113,7 @@ fn parse_counters(s: &str) -> Option<Counters> {
             "shadow" => c.shadow = value,
             "visits" => c.visits = value,
             "mailbox" => c.mailbox_hits = value,
+            "shadow_cache" => c.shadow_cache_hits = value,
             kind => {
                 let k = c.tests.iter().map(|(k, _)| k).find(|k| <&str>::from(*k) == kind)?;
                 c.tests[k] = value;
@@ -270,6 +272,7 @@ mod tests {
             shadow: 2,
             visits: 9,
             mailbox_hits: 1,
+            shadow_cache_hits: 8,
             ..Default::default()
         };
         for (i, (k, _)) in Counters::default().tests.iter().enumerate() {

@@ -137,6 +137,10 @@ pub struct RenderArgs {
     /// Turn the grid's mailboxes off (to measure what they save).
     #[arg(long)]
     pub no_mailbox: bool,
+    /// Turn the shadow cache off (each light's last occluder tested first;
+    /// to measure what it saves). The image does not change.
+    #[arg(long)]
+    pub no_shadow_cache: bool,
     /// Also write a heat map of the traversal work per pixel (primitive
     /// tests plus nodes or cells visited) to this PNG, with a colour bar.
     #[arg(long, value_name = "FILE")]
@@ -297,6 +301,7 @@ impl RenderArgs {
             min_weight: if self.spd_stats { 0.0 } else { self.min_weight },
             spd_corners: self.spd_stats,
             cost: self.aov_cost.is_some(),
+            shadow_cache: !self.no_shadow_cache,
             row_stride: 1,
             window: None,
         };

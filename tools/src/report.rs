@@ -96,10 +96,12 @@ pub fn counters(c: &Counters) -> String {
     );
     let _ = writeln!(
         s,
-        "traversal    {} nodes/cells visited ({:.2} per ray), {} mailbox hits",
+        "traversal    {} nodes/cells visited ({:.2} per ray), {} mailbox hits, {} shadow cache hits ({:.1}% of shadow rays)",
         c.visits,
         per(c.visits, rays),
-        c.mailbox_hits
+        c.mailbox_hits,
+        c.shadow_cache_hits,
+        100.0 * per(c.shadow_cache_hits, c.shadow)
     );
     s
 }

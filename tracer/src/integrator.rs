@@ -17,10 +17,11 @@
 //!   transmitter spawns a refraction ray unless there is total internal
 //!   reflection, when the transmitted share goes to that one reflection ray.
 
-use crate::accel::Intersector;
+use crate::accel::{test_shadow, Intersector};
 use crate::math::{basis, offset_ray_origin, reflect, refract, Ray, RayQuery};
 use crate::prepare::RenderScene;
 use crate::sampling::{concentric_disk, Sampler};
+use crate::shadow_cache::ShadowCache;
 use crate::stats::Counters;
 use glam::{Vec2, Vec3A};
 use strum::{Display, IntoStaticStr, VariantArray};
@@ -66,10 +67,13 @@ pub struct SampleId {
     pub index: u32,
 }
 
-/// Per-thread state: the accelerator's scratch and the counters.
+/// Per-thread state: the accelerator's scratch, the shadow cache and the
+/// counters.
 pub struct ThreadState<S> {
     /// The accelerator's scratch (the grid's mailbox).
     pub scratch: S,
+    /// Last occluder per light and depth.
+    pub shadow_cache: ShadowCache,
     /// Work counters.
     pub counters: Counters,
 }
@@ -122,7 +126,7 @@ impl<I: Intersector> Whitted<'_, I> {
         let view = -d;
         for (k, light) in scene.lights.iter().enumerate() {
             let pos = self.light_position(k, light.position, s.p, depth, id);
-            let Some((l, n_dot_l)) = self.lit(s.p, pos, ng, ns, th) else { continue };
+            let Some((l, n_dot_l)) = self.lit(s.p, pos, ng, ns, (k, depth), th) else { continue };
             let r = reflect(-l, ns);
             let spec = if m.ks > 0.0 { m.ks * r.dot(view).max(0.0).powf(m.shine) } else { 0.0 };
             color += light.intensity * (m.kd * n_dot_l * m.color + Vec3A::splat(spec));
@@ -170,7 +174,8 @@ impl<I: Intersector> Whitted<'_, I> {
     }
 
     /// The direction to a light at `pos` and N·L, when the light faces the
-    /// point and its shadow ray is clear (counting the shadow ray).
+    /// point and its shadow ray is clear (counting the shadow ray). The
+    /// shadow cache's primitive for (light, depth) is tested first.
     ///
     /// The shadow segment is shortened at both ends by the same robust
     /// offset: off the surface at `p`, and short of the light at `pos`, so a
@@ -183,6 +188,7 @@ impl<I: Intersector> Whitted<'_, I> {
         pos: Vec3A,
         ng: Vec3A,
         ns: Vec3A,
+        (light, depth): (usize, u32),
         th: &mut ThreadState<I::Scratch>,
     ) -> Option<(Vec3A, f32)> {
         let to_light = pos - p;
@@ -201,10 +207,24 @@ impl<I: Intersector> Whitted<'_, I> {
         let end = offset_ray_origin(pos, -dir);
         let max = (end - origin).dot(dir);
         th.counters.shadow += 1;
+        if max <= 0.0 {
+            return None;
+        }
         let sq = RayQuery::new(Ray { o: origin, d: dir }, 0.0);
-        let occluded = max <= 0.0
-            || self.accel.occluded(&self.scene.geometry, &sq, max, &mut th.scratch, &mut th.counters);
-        (!occluded).then_some((l, n_dot_l))
+        let geom = &self.scene.geometry;
+        if let Some(id) = th.shadow_cache.get(light, depth) {
+            if test_shadow(geom, id, &sq, max, &mut th.counters) {
+                th.counters.shadow_cache_hits += 1;
+                return None;
+            }
+        }
+        match self.accel.occluder(geom, &sq, max, &mut th.scratch, &mut th.counters) {
+            Some(id) => {
+                th.shadow_cache.set(light, depth, id);
+                None
+            }
+            None => Some((l, n_dot_l)),
+        }
     }
 
     /// Mirror direction by the shading normal, falling back to the geometric

@@ -25,6 +25,7 @@ pub mod math;
 pub mod prepare;
 pub mod render;
 pub mod sampling;
+pub mod shadow_cache;
 pub mod stats;
 pub mod triangulate;
 

@@ -9,6 +9,7 @@ use crate::filter::{Filter, FilterKind};
 use crate::integrator::{LightShape, SampleId, ShadeSettings, ThreadState, Whitted};
 use crate::prepare::RenderScene;
 use crate::sampling::{concentric_disk, Sampler, SamplerKind};
+use crate::shadow_cache::ShadowCache;
 use crate::stats::Counters;
 use glam::{Vec2, Vec3A};
 use rayon::prelude::*;
@@ -41,6 +42,9 @@ pub struct RenderSettings {
     pub spd_corners: bool,
     /// Record traversal work per pixel.
     pub cost: bool,
+    /// Test each light's last occluder first (see [`crate::shadow_cache`]);
+    /// the image is the same either way.
+    pub shadow_cache: bool,
     /// Render only every n-th row (1: all), leaving the others black; for
     /// estimating the time of very slow renders from a subset of pixels.
     pub row_stride: u32,
@@ -92,6 +96,7 @@ impl Default for RenderSettings {
             min_weight: 0.0,
             spd_corners: false,
             cost: false,
+            shadow_cache: true,
             row_stride: 1,
             window: None,
         }
@@ -172,12 +177,11 @@ fn render_with<I: Intersector>(
     let out = if settings.spd_corners {
         // (w+1) x (h+1) corner rays, each pixel the mean of its four corners.
         let grid = Grid2 { x0: 0, y0: 0, width: w + 1, height: h + 1 };
-        let (corners, cost, counters) =
-            run_tiles(&grid, accel, scene, settings.cost, progress, |x, y, th| {
-                let (ray, t_min) = scene.camera.ray(x as f32, y as f32, Vec2::ZERO);
-                th.counters.eye += 1;
-                shader.li(ray, t_min, 1, 1.0, SampleId { px: x, py: y, index: 0 }, th)
-            });
+        let (corners, cost, counters) = run_tiles(&grid, accel, scene, settings, progress, |x, y, th| {
+            let (ray, t_min) = scene.camera.ray(x as f32, y as f32, Vec2::ZERO);
+            th.counters.eye += 1;
+            shader.li(ray, t_min, 1, 1.0, SampleId { px: x, py: y, index: 0 }, th)
+        });
         let mut film = Film::new(w, h);
         for y in 0..h {
             for x in 0..w {
@@ -198,7 +202,7 @@ fn render_with<I: Intersector>(
         });
         let grid = Grid2 { x0: win.x0, y0: win.y0, width: win.width(), height: win.height() };
         let stride = settings.row_stride.max(1);
-        let (pixels, cost, counters) = run_tiles(&grid, accel, scene, settings.cost, progress, |x, y, th| {
+        let (pixels, cost, counters) = run_tiles(&grid, accel, scene, settings, progress, |x, y, th| {
             if y % stride != 0 {
                 return Vec3A::ZERO;
             }
@@ -255,10 +259,12 @@ fn run_tiles<I: Intersector>(
     grid: &Grid2,
     accel: &I,
     scene: &RenderScene,
-    want_cost: bool,
+    settings: &RenderSettings,
     progress: Progress,
     f: impl Fn(u32, u32, &mut ThreadState<I::Scratch>) -> Vec3A + Sync,
 ) -> (Vec<Vec3A>, Option<Vec<u64>>, Counters) {
+    let want_cost = settings.cost;
+    let (max_depth, shadow_cache) = (settings.max_depth, settings.shadow_cache);
     let tiles_x = grid.width.div_ceil(TILE);
     let tiles_y = grid.height.div_ceil(TILE);
     let total = (tiles_x * tiles_y) as usize;
@@ -266,8 +272,13 @@ fn run_tiles<I: Intersector>(
     let results: Vec<TileResult> = (0..tiles_x * tiles_y)
         .into_par_iter()
         .map_init(
-            || ThreadState { scratch: accel.scratch(&scene.geometry), counters: Counters::default() },
+            || ThreadState {
+                scratch: accel.scratch(&scene.geometry),
+                shadow_cache: ShadowCache::new(scene.lights.len(), max_depth, shadow_cache),
+                counters: Counters::default(),
+            },
             |th, tile| {
+                th.shadow_cache.clear();
                 let (tx, ty) = (tile % tiles_x * TILE, tile / tiles_x * TILE);
                 let (x1, y1) = ((tx + TILE).min(grid.width), (ty + TILE).min(grid.height));
                 let mut colors = Vec::with_capacity(((x1 - tx) * (y1 - ty)) as usize);

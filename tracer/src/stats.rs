@@ -64,6 +64,8 @@ pub struct Counters {
     pub visits: u64,
     /// Primitive tests skipped because the mailbox had seen the primitive.
     pub mailbox_hits: u64,
+    /// Shadow rays found blocked by the shadow cache's primitive.
+    pub shadow_cache_hits: u64,
 }
 
 impl Counters {
@@ -93,6 +95,7 @@ impl AddAssign for Counters {
         self.tests += o.tests;
         self.visits += o.visits;
         self.mailbox_hits += o.mailbox_hits;
+        self.shadow_cache_hits += o.shadow_cache_hits;
     }
 }
 

@@ -56,3 +56,36 @@ fn every_accelerator_gives_the_same_bits() {
     assert_eq!(bvh, image(AccelKind::Grid, 2, 0.0));
     assert_eq!(bvh, image(AccelKind::None, 2, 0.0));
 }
+
+fn render_with_cache(
+    kind: AccelKind,
+    threads: usize,
+    cache: bool,
+) -> (Vec<f32>, nffkit_tracer::stats::Counters) {
+    let opts = PrepareOptions {
+        width: Some(48),
+        height: Some(40),
+        accel: AccelOptions { kind, ..Default::default() },
+        ..Default::default()
+    };
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+    pool.install(|| {
+        let p = prepare(&scene(), &opts).unwrap();
+        let out = render(&p, &RenderSettings { shadow_cache: cache, ..settings() }, &|_, _| {});
+        (out.film.pixels.iter().flat_map(|p| p.to_array()).collect(), out.counters)
+    })
+}
+
+#[test]
+fn the_shadow_cache_changes_the_work_not_the_image() {
+    for kind in [AccelKind::Bvh, AccelKind::Grid, AccelKind::None] {
+        let (with, c_with) = render_with_cache(kind, 2, true);
+        let (without, c_without) = render_with_cache(kind, 2, false);
+        assert_eq!(with, without, "{kind}");
+        assert!(c_with.shadow_cache_hits > 100, "{kind}: {} hits", c_with.shadow_cache_hits);
+        assert_eq!(c_without.shadow_cache_hits, 0);
+        assert_eq!(c_with.shadow, c_without.shadow);
+        // Counts are per tile, so they do not depend on the thread count.
+        assert_eq!(c_with, render_with_cache(kind, 1, true).1, "{kind}");
+    }
+}

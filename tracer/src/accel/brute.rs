@@ -30,14 +30,14 @@ impl Intersector for BruteForce {
         best
     }
 
-    fn occluded_bounded(
+    fn occluder_bounded(
         &self,
         geom: &Geometry,
         q: &RayQuery,
         t_max: f32,
         _: &mut (),
         c: &mut Counters,
-    ) -> bool {
-        (0..geom.bounded_len() as u32).any(|id| test_shadow(geom, id, q, t_max, c))
+    ) -> Option<u32> {
+        (0..geom.bounded_len() as u32).find(|&id| test_shadow(geom, id, q, t_max, c))
     }
 }

@@ -288,18 +288,18 @@ impl Intersector for Grid {
         best
     }
 
-    fn occluded_bounded(
+    fn occluder_bounded(
         &self,
         geom: &Geometry,
         q: &RayQuery,
         t_max: f32,
         mb: &mut Mailbox,
         c: &mut Counters,
-    ) -> bool {
-        let mut hit = false;
+    ) -> Option<u32> {
+        let mut hit = None;
         self.walk_candidates(q, t_max, mb, c, |id, _, c| {
-            hit = id.is_some_and(|id| test_shadow(geom, id, q, t_max, c));
-            !hit
+            hit = id.filter(|&id| test_shadow(geom, id, q, t_max, c));
+            hit.is_none()
         });
         hit
     }

@@ -42,16 +42,16 @@ pub trait Intersector: Sync {
         c: &mut Counters,
     ) -> Option<Hit>;
 
-    /// Whether a bounded primitive lies in `(q.t_min, t_max)`; stops at the
-    /// first occluder.
-    fn occluded_bounded(
+    /// A bounded primitive lying in `(q.t_min, t_max)`, the first one found
+    /// (not necessarily the nearest): shadow rays stop there.
+    fn occluder_bounded(
         &self,
         geom: &Geometry,
         q: &RayQuery,
         t_max: f32,
         scratch: &mut Self::Scratch,
         c: &mut Counters,
-    ) -> bool;
+    ) -> Option<u32>;
 
     /// The nearest hit in `(q.t_min, t_max)` over every primitive, planes
     /// included; ties go to the lowest id.
@@ -71,8 +71,24 @@ pub trait Intersector: Sync {
         best
     }
 
-    /// Whether anything lies in `(q.t_min, t_max)` (shadow rays), planes
-    /// first: they are few and, being infinite, likely to block.
+    /// A primitive lying in `(q.t_min, t_max)` (a shadow ray's blocker),
+    /// planes first: they are few and, being infinite, likely to block.
+    #[inline]
+    fn occluder(
+        &self,
+        geom: &Geometry,
+        q: &RayQuery,
+        t_max: f32,
+        scratch: &mut Self::Scratch,
+        c: &mut Counters,
+    ) -> Option<u32> {
+        match geom.plane_ids().find(|&id| test_shadow(geom, id, q, t_max, c)) {
+            Some(id) => Some(id),
+            None => self.occluder_bounded(geom, q, t_max, scratch, c),
+        }
+    }
+
+    /// Whether anything lies in `(q.t_min, t_max)`.
     #[inline]
     fn occluded(
         &self,
@@ -82,8 +98,7 @@ pub trait Intersector: Sync {
         scratch: &mut Self::Scratch,
         c: &mut Counters,
     ) -> bool {
-        geom.plane_ids().any(|id| test_shadow(geom, id, q, t_max, c))
-            || self.occluded_bounded(geom, q, t_max, scratch, c)
+        self.occluder(geom, q, t_max, scratch, c).is_some()
     }
 }
 
@@ -204,7 +219,7 @@ pub(crate) fn test_prim(
 
 /// Whether primitive `id` occludes the shadow ray, counting the test.
 #[inline(always)]
-pub(crate) fn test_shadow(geom: &Geometry, id: u32, q: &RayQuery, t_max: f32, c: &mut Counters) -> bool {
+pub fn test_shadow(geom: &Geometry, id: u32, q: &RayQuery, t_max: f32, c: &mut Counters) -> bool {
     c.tests[geom.locate(id).0] += 1;
     geom.intersect(id, q, t_max).is_some()
 }

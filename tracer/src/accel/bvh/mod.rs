@@ -111,16 +111,16 @@ impl Intersector for Bvh {
     }
 
     #[inline]
-    fn occluded_bounded(
+    fn occluder_bounded(
         &self,
         geom: &Geometry,
         q: &RayQuery,
         t_max: f32,
         stack: &mut Vec<Entry>,
         c: &mut Counters,
-    ) -> bool {
+    ) -> Option<u32> {
         if self.wide.is_empty() {
-            return false;
+            return None;
         }
         let r = Ray4::new(q);
         let stack = &mut stack[..STACK];
@@ -132,7 +132,7 @@ impl Intersector for Bvh {
             if e.count > 0 {
                 for &id in &self.prims[e.child as usize..(e.child + e.count) as usize] {
                     if test_shadow(geom, id, q, t_max, c) {
-                        return true;
+                        return Some(id);
                     }
                 }
                 continue;
@@ -147,6 +147,6 @@ impl Intersector for Bvh {
                 sp += 1;
             }
         }
-        false
+        None
     }
 }
