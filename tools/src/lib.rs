@@ -4,6 +4,7 @@
 #![forbid(unsafe_code)]
 
 pub mod aademo;
+pub mod bench;
 pub mod check;
 pub mod cli_util;
 pub mod default_scene;

@@ -1,0 +1,262 @@
+//! `nffbench`: the project's one benchmark. It measures where the rays are
+//! spent and prints markdown tables:
+//!
+//! - per-thread eye-ray and shadow-ray throughput (one thread, pixel-centre
+//!   eye rays, the same rays `embree-rays` traces), and whole Whitted renders
+//!   at 1 and 16 spp on all threads, on balls_s4 and mount_s7 (the scenes of
+//!   the SPD and of the P3D report's Table 1);
+//! - reading, building and rendering the sphereflake at level 6 (597,871
+//!   spheres) against level 2, each in a fresh process, with its peak memory.
+//!
+//! With `--shared DIR` (the project's `../shared`) it also runs POV-Ray
+//! (`bench/vs-povray`) and Intel Embree (`bench/embree-rays`, single rays and
+//! 8/16-wide packets) on the same scenes and prints their figures beside
+//! ours. Figures are noisy on shared machines: compare columns of one run.
+
+use crate::render_args::render_config_from;
+use crate::sphereflake::{Floor, Sphereflake};
+use anyhow::{bail, Context, Result};
+use nffkit_formats::nff::{self, ParseOptions};
+use nffkit_formats::Scene;
+use nffkit_tracer::accel::Intersector;
+use nffkit_tracer::math::{offset_ray_origin, Ray, RayQuery};
+use nffkit_tracer::prepare::{prepare, PrepareOptions, RenderScene};
+use nffkit_tracer::render::render;
+use nffkit_tracer::stats::Counters;
+use nffkit_tracer::with_accel;
+use std::path::Path;
+use std::time::Instant;
+
+/// Per-thread ray throughput on one scene.
+#[derive(Debug, Clone, Copy)]
+pub struct RayRates {
+    /// Eye rays per second on one thread, in millions.
+    pub eye: f64,
+    /// Eye rays that hit (to check against Embree's "primary hits").
+    pub eye_hits: u64,
+    /// Shadow rays per second on one thread, in millions.
+    pub shadow: f64,
+    /// Shadow rays traced (one per light per eye hit facing it).
+    pub shadow_rays: u64,
+}
+
+/// Best of `runs` timings of `f`, in seconds.
+fn best_of(runs: u32, mut f: impl FnMut()) -> f64 {
+    (0..runs.max(1))
+        .map(|_| {
+            let t0 = Instant::now();
+            f();
+            t0.elapsed().as_secs_f64()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Eye and shadow rays of `scene` on the calling thread, best of `runs`.
+pub fn ray_rates(scene: &RenderScene, runs: u32) -> RayRates {
+    with_accel!(&scene.accel, acc => rates_with(scene, acc, runs))
+}
+
+fn rates_with<I: Intersector>(scene: &RenderScene, accel: &I, runs: u32) -> RayRates {
+    let (w, h) = scene.camera.resolution();
+    let geom = &scene.geometry;
+    let mut scratch = accel.scratch(geom);
+    let mut c = Counters::default();
+    let eye: Vec<RayQuery> = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let (ray, t_min) = scene.camera.ray(x as f32 + 0.5, y as f32 + 0.5, glam::Vec2::ZERO);
+            RayQuery::new(ray, t_min)
+        })
+        .collect();
+    let mut hits = Vec::new();
+    let eye_s = best_of(runs, || {
+        hits.clear();
+        hits.extend(eye.iter().filter_map(|q| {
+            accel.intersect(geom, q, f32::INFINITY, &mut scratch, &mut c).map(|hit| (*q, hit))
+        }));
+    });
+    // The shadow rays the shader would trace from each hit (shading normal
+    // facing the light), built once and then timed alone.
+    let mut shadow = Vec::new();
+    for (q, hit) in &hits {
+        let s = geom.surface(hit, q);
+        let n = if s.ng.dot(q.ray.d) < 0.0 { s.ng } else { -s.ng };
+        for light in &scene.lights {
+            let l = light.position - s.p;
+            if n.dot(l) <= 0.0 {
+                continue;
+            }
+            let o = offset_ray_origin(s.p, n);
+            let d = light.position - o;
+            let max = d.length();
+            shadow.push((RayQuery::new(Ray { o, d: d / max }, 0.0), max));
+        }
+    }
+    let mut blocked = 0;
+    let shadow_s = best_of(runs, || {
+        blocked =
+            shadow.iter().filter(|(q, max)| accel.occluded(geom, q, *max, &mut scratch, &mut c)).count();
+    });
+    std::hint::black_box(blocked);
+    RayRates {
+        eye: eye.len() as f64 / eye_s / 1e6,
+        eye_hits: hits.len() as u64,
+        shadow: shadow.len() as f64 / shadow_s.max(1e-9) / 1e6,
+        shadow_rays: shadow.len() as u64,
+    }
+}
+
+/// A whole Whitted render: seconds from parsed scene to image, on every
+/// thread of the current pool, and its rays.
+#[derive(Debug, Clone, Copy)]
+pub struct RenderTiming {
+    /// Wall seconds (prepare and render), best of the runs.
+    pub seconds: f64,
+    /// Rays traced.
+    pub rays: u64,
+}
+
+/// Time `render` with `args` (render's own options) on `scene`.
+pub fn render_timing(scene: &Scene, args: &[&str], runs: u32) -> Result<RenderTiming> {
+    let config = render_config_from(args.iter().copied())?;
+    let mut rays = 0;
+    let mut err = None;
+    let seconds = best_of(runs, || match prepare(scene, &config.prepare) {
+        Ok(p) => rays = render(&p, &config.settings, &|_, _| {}).counters.rays(),
+        Err(e) => err = Some(e),
+    });
+    if let Some(e) = err {
+        return Err(e.into());
+    }
+    Ok(RenderTiming { seconds, rays })
+}
+
+/// What loading the sphereflake costs in one fresh process.
+#[derive(Debug, Clone, Copy)]
+pub struct FlakeProcess {
+    /// Bytes of NFF.
+    pub bytes: usize,
+    /// Reading and parsing, seconds.
+    pub parse: f64,
+    /// Building the accelerator, seconds.
+    pub build: f64,
+    /// Rendering 512x512 at 1 spp, seconds.
+    pub render: f64,
+    /// Peak resident memory of the process, bytes (Linux; 0 elsewhere).
+    pub peak: u64,
+}
+
+/// Inside the child process: read `path`, prepare and render it, and
+/// measure each step.
+pub fn flake_process(path: &Path) -> Result<FlakeProcess> {
+    let t0 = Instant::now();
+    let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
+    let scene = nff::parse(&bytes, &ParseOptions::default()).map_err(|e| anyhow::anyhow!("{e}"))?.scene;
+    let parse = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
+    let prepared = prepare(&scene, &PrepareOptions::default())?;
+    let build = t1.elapsed().as_secs_f64();
+    let config = render_config_from(["--depth", "6"])?;
+    let t2 = Instant::now();
+    render(&prepared, &config.settings, &|_, _| {});
+    let render = t2.elapsed().as_secs_f64();
+    Ok(FlakeProcess { bytes: bytes.len(), parse, build, render, peak: peak_memory() })
+}
+
+/// Peak resident set of this process (VmHWM), bytes.
+pub fn peak_memory() -> u64 {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok())
+        .map_or(0, |kb| kb * 1024)
+}
+
+impl FlakeProcess {
+    /// The line the child prints for the parent.
+    pub fn to_line(&self) -> String {
+        format!(
+            "flake bytes={} parse={} build={} render={} peak={}",
+            self.bytes, self.parse, self.build, self.render, self.peak
+        )
+    }
+
+    /// Read the child's line back.
+    pub fn from_line(line: &str) -> Option<FlakeProcess> {
+        let mut f = FlakeProcess { bytes: 0, parse: 0.0, build: 0.0, render: 0.0, peak: 0 };
+        for field in line.strip_prefix("flake ")?.split_whitespace() {
+            let (k, v) = field.split_once('=')?;
+            match k {
+                "bytes" => f.bytes = v.parse().ok()?,
+                "parse" => f.parse = v.parse().ok()?,
+                "build" => f.build = v.parse().ok()?,
+                "render" => f.render = v.parse().ok()?,
+                "peak" => f.peak = v.parse().ok()?,
+                _ => return None,
+            }
+        }
+        Some(f)
+    }
+}
+
+/// Write the sphereflake at `level` (SPD's balls, 512x512) to `path`.
+pub fn write_flake(level: u32, path: &Path) -> Result<()> {
+    let flake = Sphereflake { level, resolution: [512, 512], floor: Floor::Square };
+    let file = std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?;
+    let mut w = flake.write(std::io::BufWriter::new(file))?;
+    std::io::Write::flush(&mut w)?;
+    Ok(())
+}
+
+/// Run `program args`, returning its standard output; fails with its
+/// standard error.
+pub fn capture(program: &Path, args: &[&str]) -> Result<String> {
+    let o = std::process::Command::new(program)
+        .args(args)
+        .output()
+        .with_context(|| format!("running {}", program.display()))?;
+    if !o.status.success() {
+        bail!("{} {} failed:\n{}", program.display(), args.join(" "), String::from_utf8_lossy(&o.stderr));
+    }
+    Ok(String::from_utf8_lossy(&o.stdout).into_owned())
+}
+
+/// The first number after `key` in `text` (`"speedup (povray / ours): 3.10x"`).
+pub fn number_after(text: &str, key: &str) -> Option<f64> {
+    let rest = &text[text.find(key)? + key.len()..];
+    let start = rest.find(|c: char| c.is_ascii_digit())?;
+    let num: String = rest[start..].chars().take_while(|c| c.is_ascii_digit() || *c == '.').collect();
+    num.parse().ok()
+}
+
+/// The Mrays/s of an `embree-rays` run: the number before " Mrays/s" on its
+/// RESULT line.
+pub fn embree_mrays(text: &str) -> Option<f64> {
+    let line = text.lines().find(|l| l.starts_with("RESULT"))?;
+    let before = &line[..line.find(" Mrays/s")?];
+    before.rsplit([' ', ':']).next()?.parse().ok()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_numbers_out_of_tool_output() {
+        let pov = "povray  median 2.550 s  (min 2.5, max 2.6)\nours    median 0.812 s\nspeedup (povray / ours): 3.25x";
+        assert_eq!(number_after(pov, "povray  median"), Some(2.55));
+        assert_eq!(number_after(pov, "speedup"), Some(3.25));
+        let embree = "RESULT balls_s4: single, 1 spp, 1 thread, 512x512, quality medium: 6.123 Mrays/s median [5.9-6.2] of 5";
+        assert_eq!(number_after(embree, "quality medium:"), Some(6.123));
+        assert_eq!(number_after("nothing", "RESULT"), None);
+        assert_eq!(embree_mrays(embree), Some(6.123));
+    }
+
+    #[test]
+    fn flake_lines_round_trip() {
+        let f = FlakeProcess { bytes: 10, parse: 0.5, build: 0.25, render: 0.125, peak: 4096 };
+        let g = FlakeProcess::from_line(&f.to_line()).unwrap();
+        assert_eq!((g.bytes, g.parse, g.build, g.render, g.peak), (10, 0.5, 0.25, 0.125, 4096));
+    }
+}

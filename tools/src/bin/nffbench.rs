@@ -1,0 +1,210 @@
+//! `nffbench`: the project's benchmark. See `nffbench --help` and the
+//! module doc of `nffkit_tools::bench`.
+
+use anyhow::{Context, Result};
+use clap::Parser;
+use nffkit_formats::nff::{self, ParseOptions};
+use nffkit_tools::bench::{
+    self, capture, embree_mrays, number_after, ray_rates, render_timing, write_flake, FlakeProcess,
+};
+use nffkit_tools::cli_util;
+use nffkit_tools::golden::find_scenes_dir;
+use nffkit_tracer::prepare::{prepare, PrepareOptions};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+/// Benchmark: ray throughput, Whitted renders and big-scene loading, as markdown tables.
+///
+/// Measures, on balls_s4 and mount_s7 (the project's scenes/spd): eye and
+/// shadow rays per second on one thread, and whole Whitted renders (depth 6)
+/// at 1 and 16 spp on every thread; then the sphereflake at levels 2 and 6,
+/// each read, built and rendered in a fresh process, with its peak memory.
+/// With --shared DIR (the project's ../shared), POV-Ray (bench/vs-povray)
+/// and Intel Embree (bench/embree-rays: rtcIntersect1 and 8/16-wide
+/// packets) are run on the same scenes and shown beside these figures.
+#[derive(Parser, Debug)]
+#[command(name = "nffbench", version)]
+struct Args {
+    /// Image size (square).
+    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(16..=4096))]
+    size: u32,
+    /// Repetitions of each in-process timing; the best is reported.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=100))]
+    runs: u32,
+    /// The shared folder with bench/vs-povray and bench/embree-rays: run
+    /// POV-Ray and Embree beside us (slow: minutes).
+    #[arg(long, value_name = "DIR")]
+    shared: Option<PathBuf>,
+    /// Sphereflake level of the big-scene test (compared with level 2).
+    #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u32).range(2..=7))]
+    flake_level: u32,
+    /// Internal: measure one sphereflake file in this process.
+    #[arg(long, hide = true, value_name = "FILE")]
+    flake_child: Option<PathBuf>,
+}
+
+const SCENES: [&str; 2] = ["balls_s4", "mount_s7"];
+
+/// One scene's column.
+struct Column {
+    eye: f64,
+    eye_hits: u64,
+    shadow: f64,
+    spp1: bench::RenderTiming,
+    spp16: bench::RenderTiming,
+    pov1: Option<(f64, f64)>,
+    pov16: Option<(f64, f64)>,
+    embree: Option<[Option<f64>; 4]>,
+}
+
+fn measure(name: &str, spd: &Path, a: &Args, threads: usize) -> Result<Column> {
+    let path = spd.join(format!("{name}.nff"));
+    let src = std::fs::read(&path).with_context(|| format!("reading {}", path.display()))?;
+    let scene = nff::parse(&src, &ParseOptions::default()).map_err(|e| anyhow::anyhow!("{name}: {e}"))?.scene;
+    eprintln!("{name}: rays on one thread");
+    let opts = PrepareOptions { width: Some(a.size), height: Some(a.size), ..Default::default() };
+    let prepared = prepare(&scene, &opts)?;
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
+    let rates = one.install(|| ray_rates(&prepared, a.runs));
+    let size = a.size.to_string();
+    let base = ["--width", &size, "--height", &size, "--depth", "6"];
+    eprintln!("{name}: Whitted renders on {threads} threads");
+    let spp1 = render_timing(&scene, &base, a.runs)?;
+    let spp16 = render_timing(&scene, &[&base[..], &["--spp", "16"]].concat(), a.runs)?;
+    let (mut pov1, mut pov16, mut embree) = (None, None, None);
+    if let Some(shared) = &a.shared {
+        let render = std::env::current_exe()?.with_file_name("render");
+        let render = render.to_str().context("the render binary's path is not UTF-8")?;
+        let pov = |aa: bool| -> Result<(f64, f64)> {
+            eprintln!("{name}: POV-Ray{}", if aa { " --aa" } else { "" });
+            let mut args = vec!["--scene", name, "--size", &size, "--runs", "3"];
+            if aa {
+                args.push("--aa");
+            }
+            args.extend(["--", render, "--depth", "6", "-q"]);
+            if aa {
+                args.extend(["--spp", "16"]);
+            }
+            let out = capture(&shared.join("bench/vs-povray"), &args)?;
+            let t = number_after(&out, "povray  median").context("no POV-Ray time")?;
+            let ours = number_after(&out, "ours    median").context("no time of ours")?;
+            Ok((t, ours))
+        };
+        pov1 = Some(pov(false)?);
+        pov16 = Some(pov(true)?);
+        let em = |extra: &[&str]| -> Result<Option<f64>> {
+            eprintln!("{name}: Embree {}", extra.join(" "));
+            let args = [&[name, "--width", &size, "--height", &size, "--threads", "1"][..], extra].concat();
+            Ok(embree_mrays(&capture(&shared.join("bench/embree-rays"), &args)?))
+        };
+        embree = Some([em(&[])?, em(&["--packet", "8"])?, em(&["--packet", "16"])?, em(&["--shadow"])?]);
+    }
+    Ok(Column {
+        eye: rates.eye,
+        eye_hits: rates.eye_hits,
+        shadow: rates.shadow,
+        spp1,
+        spp16,
+        pov1,
+        pov16,
+        embree,
+    })
+}
+
+fn flake(level: u32, dir: &Path) -> Result<(FlakeProcess, f64)> {
+    let file = dir.join(format!("flake{level}.nff"));
+    eprintln!("sphereflake level {level}: writing and loading in a fresh process");
+    write_flake(level, &file)?;
+    let exe = std::env::current_exe()?;
+    let t0 = Instant::now();
+    let out = capture(&exe, &["--flake-child", file.to_str().context("temporary path is not UTF-8")?])?;
+    let whole = t0.elapsed().as_secs_f64();
+    let line = out.lines().find_map(FlakeProcess::from_line).context("the child printed no figures")?;
+    Ok((line, whole))
+}
+
+fn report(a: &Args) -> Result<String> {
+    let cwd = std::env::current_dir()?;
+    let spd = find_scenes_dir(&cwd)?.join("spd");
+    let threads = rayon::current_num_threads();
+    let cols = SCENES.iter().map(|s| measure(s, &spd, a, threads)).collect::<Result<Vec<_>>>()?;
+    let mut t = format!("## Rays and renders ({0}x{0}, depth 6; {threads} threads for renders)\n\n", a.size);
+    let _ = writeln!(t, "| measure | {} |", SCENES.join(" | "));
+    let _ = writeln!(t, "|---|{}", "---:|".repeat(SCENES.len()));
+    let mut row = |label: &str, f: &dyn Fn(&Column) -> String| {
+        let cells: Vec<String> = cols.iter().map(f).collect();
+        let _ = writeln!(t, "| {label} | {} |", cells.join(" | "));
+    };
+    row("eye rays, single, Mrays/s per thread", &|c| format!("{:.2} ({} hit)", c.eye, c.eye_hits));
+    row("eye rays, packets, Mrays/s per thread", &|_| "not implemented".into());
+    row("shadow rays, Mrays/s per thread", &|c| format!("{:.2}", c.shadow));
+    for (label, pick) in [("Whitted 1 spp", 0), ("Whitted 16 spp", 1)] {
+        row(&format!("{label}, s (Mrays/s per thread)"), &|c| {
+            let r = if pick == 0 { c.spp1 } else { c.spp16 };
+            format!("{:.3} ({:.2})", r.seconds, r.rays as f64 / r.seconds / threads as f64 / 1e6)
+        });
+    }
+    if a.shared.is_some() {
+        let labels = [
+            "Embree rtcIntersect1, Mrays/s",
+            "Embree rtcIntersect8",
+            "Embree rtcIntersect16",
+            "Embree eye+shadow (single)",
+        ];
+        for (k, label) in labels.iter().enumerate() {
+            row(label, &|c| c.embree.and_then(|e| e[k]).map_or("-".into(), |v| format!("{v:.2}")));
+        }
+        row("eye rays: ours / Embree single", &|c| {
+            c.embree.and_then(|e| e[0]).map_or("-".into(), |v| format!("{:.2}x", c.eye / v))
+        });
+        for (label, pick) in [("POV-Ray 1 spp, whole process", 0), ("POV-Ray 16 spp (--aa)", 1)] {
+            row(&format!("{label}: POV-Ray s / ours s = speedup"), &|c| {
+                (if pick == 0 { c.pov1 } else { c.pov16 })
+                    .map_or("-".into(), |(p, o)| format!("{p:.3} / {o:.3} = {:.2}x", p / o))
+            });
+        }
+    }
+    let dir = tempfile::tempdir()?;
+    let (small, small_whole) = flake(2, dir.path())?;
+    let (big, big_whole) = flake(a.flake_level, dir.path())?;
+    let _ =
+        writeln!(t, "\n## Sphereflake, each level in a fresh process (512x512, 1 spp, {threads} threads)\n");
+    let _ =
+        writeln!(t, "| level | NFF MB | parse s (MB/s) | build ms | render ms | whole process s | peak MB |");
+    let _ = writeln!(t, "|---|---:|---:|---:|---:|---:|---:|");
+    for (level, f, whole) in [(2, small, small_whole), (a.flake_level, big, big_whole)] {
+        let mb = f.bytes as f64 / 1e6;
+        let _ = writeln!(
+            t,
+            "| {level} | {mb:.1} | {:.3} ({:.0}) | {:.1} | {:.1} | {whole:.3} | {:.0} |",
+            f.parse,
+            mb / f.parse,
+            f.build * 1e3,
+            f.render * 1e3,
+            f.peak as f64 / 1e6
+        );
+    }
+    let _ = writeln!(
+        t,
+        "\nLevel {} against level 2: whole process {:.1}x, render {:.1}x.",
+        a.flake_level,
+        big_whole / small_whole,
+        big.render / small.render
+    );
+    Ok(t)
+}
+
+fn run(a: &Args) -> Result<()> {
+    if let Some(file) = &a.flake_child {
+        println!("{}", bench::flake_process(file)?.to_line());
+        return Ok(());
+    }
+    print!("{}", report(a)?);
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    cli_util::exit(run(&Args::parse()), "nffbench")
+}
