@@ -50,7 +50,13 @@ pub struct Lexer<'a> {
 
 impl<'a> Lexer<'a> {
     pub fn new(src: &'a [u8]) -> Self {
-        Lexer { src, pos: 0, line: 1, line_start: 0, last_line: 0 }
+        Self::starting_at(src, 1)
+    }
+
+    /// A lexer over a piece of a file that begins at the start of line
+    /// `line` (for parsing a large file in chunks).
+    pub fn starting_at(src: &'a [u8], line: u32) -> Self {
+        Lexer { src, pos: 0, line, line_start: 0, last_line: 0 }
     }
 }
 

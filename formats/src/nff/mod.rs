@@ -10,9 +10,11 @@ mod diag;
 mod geometry_checks;
 mod lexer;
 mod number;
+mod parallel;
 mod parse;
 mod write;
 
 pub use diag::{Diagnostic, Severity};
-pub use parse::{parse, ParseError, ParseOptions, Parsed};
+pub use parallel::parse_in_chunks;
+pub use parse::{parse, parse_sequential, ParseError, ParseOptions, Parsed};
 pub use write::{format_number, write, NffWriter};

@@ -13,6 +13,7 @@ use super::diag::{Diagnostic, Severity};
 use super::geometry_checks;
 use super::lexer::{Lexer, Token};
 use crate::scene::{Light, Material, Primitive, Scene, Shape, SourceLine, View};
+
 use glam::DVec3;
 use std::fmt;
 
@@ -70,11 +71,27 @@ impl fmt::Display for ParseError {
 
 impl std::error::Error for ParseError {}
 
-/// Read an NFF scene from bytes. Never panics, whatever the bytes.
+/// Read an NFF scene from bytes. Never panics, whatever the bytes. Files
+/// of several megabytes are read on every core ([`super::parse_in_chunks`]),
+/// with exactly the result and diagnostics of [`parse_sequential`].
 pub fn parse(src: &[u8], opts: &ParseOptions) -> Result<Parsed, ParseError> {
+    let body = strip_dos_eof(src);
+    if body.len() >= super::parallel::PARALLEL_MIN_BYTES && !body.starts_with(BOM) {
+        let chunks = super::parallel::default_chunks(body.len());
+        if let Some(parsed) = super::parallel::parse_in_chunks(body, opts, chunks) {
+            return Ok(parsed);
+        }
+    }
+    parse_sequential(src, opts)
+}
+
+const BOM: &[u8] = b"\xEF\xBB\xBF";
+
+/// Read an NFF scene from bytes on the calling thread.
+pub fn parse_sequential(src: &[u8], opts: &ParseOptions) -> Result<Parsed, ParseError> {
     // A UTF-8 byte-order mark (Windows editors) is one invisible character:
     // dropping it keeps the columns of line 1 as the user sees them.
-    let (src, bom) = match src.strip_prefix(b"\xEF\xBB\xBF") {
+    let (src, bom) = match src.strip_prefix(BOM) {
         Some(rest) => (rest, true),
         None => (src, false),
     };
@@ -91,6 +108,16 @@ pub fn parse(src: &[u8], opts: &ParseOptions) -> Result<Parsed, ParseError> {
     }
     p.run();
     p.finish()
+}
+
+/// One chunk of a file, read on its own as a fragment: its scene (material
+/// indices local to the chunk) and its diagnostics. `first_line` is the line
+/// the chunk starts at.
+pub(super) fn parse_chunk(src: &[u8], first_line: u32, opts: &ParseOptions) -> (Scene, Vec<Diagnostic>) {
+    let mut p = Parser::new(src, ParseOptions { fragment: true, ..*opts });
+    p.lexer = Lexer::starting_at(src, first_line);
+    p.run();
+    (p.scene, p.diags)
 }
 
 /// The source without a DOS end-of-file byte (0x1A, Ctrl-Z) at its end, as

@@ -1,0 +1,122 @@
+//! Reading a large file on every core: the file is cut into chunks at lines
+//! that start an entity (`s`, `p`, `pp`, `c`, `f`, `l`, `b`, `v`: a line
+//! starting with one of these words can only begin an entity, since numbers
+//! never start with a letter and comments start with `#`), each chunk is
+//! read on its own thread as a fragment, and the parts are joined.
+//!
+//! What a chunk cannot know is what came before it: the current material and
+//! whether objects were already seen. Materials are renumbered at the join
+//! (a primitive before its chunk's first `f` takes the previous chunk's
+//! last material). Everything that would make the reader *say* something
+//! that depends on earlier chunks (a light or view after the first object, a
+//! second view, no view at all), and any diagnostic at all, sends the file
+//! back to the sequential reader, so the result and the diagnostics are
+//! always exactly those of reading it in one piece.
+
+use super::parse::{parse_chunk, ParseOptions, Parsed};
+use crate::scene::Scene;
+
+/// Files at least this large are read in parallel.
+pub const PARALLEL_MIN_BYTES: usize = 4 << 20;
+/// Smallest chunk worth a thread.
+const MIN_CHUNK: usize = 1 << 20;
+
+/// Chunks for a file of `len` bytes: one per core, at least 1 MB each.
+pub fn default_chunks(len: usize) -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    cores.min(len / MIN_CHUNK).max(1)
+}
+
+/// Read `src` in `chunks` pieces on as many threads; `None` when the pieces
+/// cannot be joined into exactly what the sequential reader gives (then the
+/// caller reads the file in one piece).
+pub fn parse_in_chunks(src: &[u8], opts: &ParseOptions, chunks: usize) -> Option<Parsed> {
+    let starts = split_points(src, chunks);
+    if starts.len() < 2 {
+        return None;
+    }
+    // The line each chunk starts on.
+    let mut lines = Vec::with_capacity(starts.len());
+    let mut line = 1u32;
+    let mut prev = 0;
+    for &s in &starts {
+        line += src[prev..s].iter().filter(|&&b| b == b'\n').count() as u32;
+        lines.push(line);
+        prev = s;
+    }
+    let ends = starts.iter().skip(1).copied().chain(std::iter::once(src.len()));
+    let pieces: Vec<(&[u8], u32)> = starts.iter().zip(ends).map(|(&a, b)| &src[a..b]).zip(lines).collect();
+    let parts: Vec<(Scene, bool)> = std::thread::scope(|scope| {
+        let handles: Vec<_> = pieces
+            .iter()
+            .map(|&(piece, line)| {
+                scope.spawn(move || {
+                    let (scene, diags) = parse_chunk(piece, line, opts);
+                    (scene, diags.is_empty())
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap_or_else(|_| (Scene::default(), false))).collect()
+    });
+    join(parts, opts)
+}
+
+/// Byte offsets where chunks start: 0, then one near each `len/chunks`
+/// mark, at the start of a line whose first word is an entity keyword.
+fn split_points(src: &[u8], chunks: usize) -> Vec<usize> {
+    let mut starts = vec![0];
+    for k in 1..chunks {
+        let target = src.len() * k / chunks;
+        if let Some(at) = next_entity_line(src, target.max(*starts.last().unwrap_or(&0) + 1)) {
+            if at > *starts.last().unwrap_or(&0) {
+                starts.push(at);
+            }
+        }
+    }
+    starts
+}
+
+/// The first line at or after `from` that starts with an entity keyword
+/// followed by a space or tab.
+fn next_entity_line(src: &[u8], from: usize) -> Option<usize> {
+    let mut i = from;
+    while i < src.len() {
+        let nl = i + src[i..].iter().position(|&b| b == b'\n')?;
+        let line = &src[nl + 1..];
+        let word_end = line.iter().position(|&b| b == b' ' || b == b'\t').unwrap_or(0);
+        if matches!(&line[..word_end], b"s" | b"p" | b"pp" | b"c" | b"f" | b"l" | b"b" | b"v") {
+            return Some(nl + 1);
+        }
+        i = nl + 1;
+    }
+    None
+}
+
+/// Join chunk scenes in order, or `None` if the sequential reader would
+/// have said something the chunks could not (module doc).
+fn join(parts: Vec<(Scene, bool)>, opts: &ParseOptions) -> Option<Parsed> {
+    let mut scene = Scene::default();
+    for (part, quiet) in parts {
+        let objects_before = !scene.primitives.is_empty();
+        if !quiet
+            || (part.view.is_some() && (scene.view.is_some() || objects_before))
+            || (!part.lights.is_empty() && objects_before)
+        {
+            return None;
+        }
+        let offset = scene.materials.len() as u32;
+        let inherited = offset.checked_sub(1);
+        scene.primitives.extend(part.primitives.into_iter().map(|mut p| {
+            p.material = p.material.map(|m| m + offset).or(inherited);
+            p
+        }));
+        scene.materials.extend(part.materials);
+        scene.lights.extend(part.lights);
+        scene.background = part.background.or(scene.background);
+        scene.view = part.view.or(scene.view);
+    }
+    if scene.view.is_none() && !opts.fragment {
+        return None;
+    }
+    Some(Parsed { scene, diagnostics: Vec::new() })
+}
