@@ -349,3 +349,23 @@ fn gltf_with_an_external_bin() {
     let b = scene.bounds().unwrap();
     assert_eq!((b.0, b.1), (DVec3::new(0.0, 0.0, 2.0), DVec3::new(1.0, 1.0, 2.0)));
 }
+
+#[test]
+fn gltf_default_material_renders_light_grey_not_black() {
+    let dir = tempfile::tempdir().unwrap();
+    // A material with no pbrMetallicRoughness at all: glTF's defaults,
+    // metallic 1, roughness 1, base colour white.
+    let extra = r#""materials":[{"name":"plain"}],"#;
+    let json = gltf_json(&TRI, None, extra, 4, "", None).replace(r#""mode":4"#, r#""mode":4,"material":0"#);
+    let (scene, _, _) = convert(&write_file(dir.path(), "d.gltf", &json), &Options::default());
+    let m = scene.material_of(&scene.primitives[0]);
+    assert_eq!((m.color, m.kd, m.ks), (DVec3::ONE, 0.8, 0.0));
+    let prepared = nffkit_tracer::prepare::prepare(&scene, &Default::default()).unwrap();
+    let film = nffkit_tracer::render::render(&prepared, &Default::default(), &|_, _| {}).film;
+    let (w, h) = (film.width, film.height);
+    let centre = film.get(w / 3, h / 2).max(film.get(w / 2, h / 2));
+    assert!(
+        film.pixels.iter().any(|p| p.min_element() > 0.3 && (p.x - p.y).abs() < 1e-6),
+        "lit grey: {centre}"
+    );
+}

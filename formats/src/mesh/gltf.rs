@@ -7,9 +7,15 @@
 //! through the inverse transpose; a mirroring transform (negative
 //! determinant) reverses the winding so faces keep facing out.
 //!
-//! Material rule: colour = baseColorFactor; Kd = 1 − metallic;
-//! Ks = (0.04 + 0.96·metallic)·(1 − roughness); Shine = 2/α² − 2 with
-//! α = roughness² (the Blinn-Phong exponent matching that GGX width),
+//! Material rule ([`whitted_terms`]), which never turns a lit, coloured
+//! surface black: colour = baseColorFactor; the mirror share
+//! s = (0.04 + 0.96·metallic)·(1 − roughness) (smooth metals are mirrors,
+//! rough surfaces are not); Ks = s·(1 − 0.2·metallic);
+//! Kd = 0.8·(1 − s) + 0.2·metallic·s (the rest is diffuse in the base
+//! colour, and a metal keeps a fifth of its mirror share as diffuse colour,
+//! since NFF reflections cannot be tinted). The glTF defaults (metallic 1,
+//! roughness 1, white) give Kd 0.8, Ks 0: light grey diffuse. Shine = 2/α² − 2
+//! with α = roughness² (the Blinn-Phong exponent matching that GGX width),
 //! clamped to [1, 10000]; T = KHR_materials_transmission's factor; index of
 //! refraction = KHR_materials_ior (1.5 when transmissive and unspecified).
 
@@ -217,12 +223,38 @@ fn convert_material(m: ::gltf::Material) -> Material {
     let alpha = (roughness * roughness).max(1e-3);
     let t = m.transmission().map_or(0.0, |t| t.transmission_factor() as f64);
     let ior = m.ior().map(f64::from).unwrap_or(if t > 0.0 { 1.5 } else { 1.0 });
+    let (kd, ks) = whitted_terms(metallic, roughness);
     Material {
         color: DVec3::new(r as f64, g as f64, b as f64),
-        kd: 1.0 - metallic,
-        ks: (0.04 + 0.96 * metallic) * (1.0 - roughness),
+        kd,
+        ks,
         shine: (2.0 / (alpha * alpha) - 2.0).clamp(1.0, 10000.0),
         t,
         ior,
+    }
+}
+
+/// NFF's (Kd, Ks) for glTF's metallic and roughness factors (module doc).
+pub fn whitted_terms(metallic: f64, roughness: f64) -> (f64, f64) {
+    let mirror = (0.04 + 0.96 * metallic) * (1.0 - roughness);
+    (0.8 * (1.0 - mirror) + 0.2 * metallic * mirror, mirror * (1.0 - 0.2 * metallic))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::whitted_terms;
+
+    #[test]
+    fn no_combination_is_black_and_the_extremes_are_as_documented() {
+        assert_eq!(whitted_terms(1.0, 1.0), (0.8, 0.0), "glTF defaults: light grey diffuse");
+        let (kd, ks) = whitted_terms(1.0, 0.0);
+        assert!((kd - 0.2).abs() < 1e-12 && (ks - 0.8).abs() < 1e-12, "smooth metal: a mirror");
+        assert_eq!(whitted_terms(0.0, 1.0), (0.8, 0.0), "rough dielectric: diffuse");
+        for i in 0..=10 {
+            for j in 0..=10 {
+                let (kd, ks) = whitted_terms(i as f64 / 10.0, j as f64 / 10.0);
+                assert!(kd >= 0.2 - 1e-12 && kd + ks <= 1.0 + 1e-12, "{i} {j}: {kd} {ks}");
+            }
+        }
     }
 }
