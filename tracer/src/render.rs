@@ -236,9 +236,12 @@ fn pixel<I: Intersector>(
         return shader.li(ray, t_min, 1, 1.0, SampleId { px, py, index: 0 }, th);
     }
     let (mut sum, mut weights) = (Vec3A::ZERO, 0.0);
+    // The pixel's patterns once; a pinhole camera ignores the lens sample.
+    let position = sampler.pattern(px, py, 0);
+    let lens = (camera.aperture > 0.0).then(|| sampler.pattern(px, py, 1));
     for index in 0..sampler.spp {
-        let (offset, weight) = filter.sample(sampler.sample(px, py, index, 0));
-        let lens = concentric_disk(sampler.sample(px, py, index, 1));
+        let (offset, weight) = filter.sample(sampler.sample_of(position, index));
+        let lens = lens.map_or(Vec2::ZERO, |p| concentric_disk(sampler.sample_of(p, index)));
         let (ray, t_min) = camera.ray(px as f32 + 0.5 + offset.x, py as f32 + 0.5 + offset.y, lens);
         th.counters.eye += 1;
         sum += weight * shader.li(ray, t_min, 1, 1.0, SampleId { px, py, index }, th);

@@ -109,7 +109,21 @@ impl Sampler {
     /// [0, 1)².
     #[inline]
     pub fn sample(&self, px: u32, py: u32, index: u32, dim: u32) -> Vec2 {
-        let p = hash4(px, py, dim, self.seed);
+        self.sample_of(self.pattern(px, py, dim), index)
+    }
+
+    /// The pattern of pixel `(px, py)` in dimension `dim`: the hash that
+    /// chooses its permutation and jitter. A pixel's loop computes it once
+    /// and calls [`Sampler::sample_of`] per sample (four hashes saved per
+    /// sample); the samples are the same as [`Sampler::sample`]'s.
+    #[inline]
+    pub fn pattern(&self, px: u32, py: u32, dim: u32) -> u32 {
+        hash4(px, py, dim, self.seed)
+    }
+
+    /// Sample `index` of the pattern `p` (from [`Sampler::pattern`]).
+    #[inline]
+    pub fn sample_of(&self, p: u32, index: u32) -> Vec2 {
         let count = self.spp;
         let n = self.n;
         match self.kind {
