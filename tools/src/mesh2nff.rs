@@ -146,8 +146,23 @@ pub fn framing_view(b: (DVec3, DVec3), o: &Options) -> (View, Vec<Light>) {
     (view, lights)
 }
 
+/// Refuse a mesh whose faces all have zero area (after --scale and --fit),
+/// as an empty mesh is refused: before anything is written.
+pub fn check(mesh: &Mesh, o: &Options) -> Result<()> {
+    let pos = transform(mesh, o);
+    let has_area = |f: &Face| {
+        let v: Vec<DVec3> = mesh.corners_of(f).iter().map(|c| pos[c.position as usize]).collect();
+        newell_normal(&v).length_squared() > 0.0
+    };
+    if !mesh.faces.iter().any(has_area) {
+        anyhow::bail!("the mesh has no faces with any area (all {} are degenerate)", mesh.faces.len());
+    }
+    Ok(())
+}
+
 /// Write the mesh as NFF to `out`, streaming faces.
 pub fn write<W: Write>(mesh: &Mesh, o: &Options, out: W) -> Result<(W, Summary)> {
+    check(mesh, o)?;
     let pos = transform(mesh, o);
     let smooth = (o.smooth && !o.flat).then(|| smooth_normals(mesh, &pos));
     let b = bounds(mesh.corners.iter().map(|c| pos[c.position as usize]));
@@ -187,6 +202,13 @@ pub fn write<W: Write>(mesh: &Mesh, o: &Options, out: W) -> Result<(W, Summary)>
         let with_normals = corners.iter().all(|c| normal_of(c).is_some_and(|n| n != DVec3::ZERO));
         if with_normals {
             norms.extend(corners.iter().map(|c| normal_of(c).unwrap()));
+        }
+        if o.scale < 0.0 {
+            // A negative scale mirrors (all three axes): re-wind the face and
+            // turn its normals so it keeps facing out.
+            verts.reverse();
+            norms.reverse();
+            norms.iter_mut().for_each(|n| *n = -*n);
         }
         if newell_normal(&verts).length_squared() == 0.0 {
             summary.degenerate += 1;

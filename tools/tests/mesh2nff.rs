@@ -369,3 +369,90 @@ fn gltf_default_material_renders_light_grey_not_black() {
         "lit grey: {centre}"
     );
 }
+
+fn mesh2nff(args: &[&str], dir: &Path, stdin: Option<&str>) -> std::process::Output {
+    use std::io::Write;
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_mesh2nff"))
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let input = child.stdin.take().unwrap();
+    if let Some(text) = stdin {
+        let mut input = input;
+        input.write_all(text.as_bytes()).unwrap();
+    }
+    child.wait_with_output().unwrap()
+}
+
+#[test]
+fn obj_polylines_and_points_are_skipped_and_counted() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nl 1 2 4\nl 2 4\np 4\n";
+    let (scene, _, warnings) = convert(&write_file(dir.path(), "l.obj", text), &Options::default());
+    assert_eq!(scene.primitives.len(), 1, "only the face");
+    assert!(
+        warnings.iter().any(|w| w.contains("2 polyline (`l`) and 1 point (`p`) elements skipped")),
+        "{warnings:?}"
+    );
+}
+
+#[test]
+fn obj_messages_name_the_line_and_print_each_error_once() {
+    let dir = tempfile::tempdir().unwrap();
+    write_file(dir.path(), "bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n\nf 1 2 9\n");
+    let o = mesh2nff(&["bad.obj"], dir.path(), None);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(
+        err.contains("bad.obj: line 6: `f 1 2 9` names vertex 9, but 3 vertices are defined before it"),
+        "{err}"
+    );
+    let o = mesh2nff(&["missing.obj"], dir.path(), None);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.matches("No such file").count(), 1, "{err}");
+}
+
+#[test]
+fn output_naming_the_input_is_refused_and_stdin_is_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    write_file(dir.path(), "t.obj", text);
+    let o = mesh2nff(&["t.obj", "-o", "t.obj"], dir.path(), None);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("is the input model"));
+    assert_eq!(std::fs::read_to_string(dir.path().join("t.obj")).unwrap(), text, "input untouched");
+    let o = mesh2nff(&["-", "--no-view"], dir.path(), Some(text));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let scene = nff::parse(&o.stdout, &ParseOptions { fragment: true, ..Default::default() }).unwrap().scene;
+    assert_eq!(scene.primitives.len(), 1);
+}
+
+#[test]
+fn a_mesh_of_only_degenerate_faces_is_refused_before_writing() {
+    let dir = tempfile::tempdir().unwrap();
+    write_file(dir.path(), "flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
+    let o = mesh2nff(&["flat.obj", "-o", "out.nff"], dir.path(), None);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("no faces with any area"));
+    assert!(!dir.path().join("out.nff").exists());
+}
+
+#[test]
+fn a_negative_scale_mirrors_and_keeps_faces_outward() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write_file(dir.path(), "cube.obj", &format!("{CUBE}{CUBE_FACES}"));
+    let (scene, _, _) = convert(&p, &Options { scale: -2.0, view: false, ..Default::default() });
+    let (lo, hi) = scene.bounds().unwrap();
+    assert_eq!((lo, hi), (DVec3::splat(-2.0), DVec3::ZERO));
+    let centre = DVec3::splat(-1.0);
+    for prim in &scene.primitives {
+        let v = vertices(&prim.shape);
+        let face_centre = v.iter().sum::<DVec3>() / v.len() as f64;
+        assert!(normal(&prim.shape).dot(face_centre - centre) > 0.0, "a face turned inward");
+    }
+}

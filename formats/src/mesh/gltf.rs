@@ -34,7 +34,7 @@ const GEOMETRY_EXTENSIONS: [&str; 3] =
 /// Import a glTF or GLB file.
 pub fn load(path: &Path) -> Result<Mesh, MeshError> {
     let bytes =
-        std::fs::read(path).map_err(|source| MeshError::Io { path: path.display().to_string(), source })?;
+        std::fs::read(path).map_err(|error| MeshError::Io { path: path.display().to_string(), error })?;
     let raw = Gltf::from_slice_without_validation(&bytes)
         .map_err(|e| MeshError::invalid(path, format!("not a readable glTF file: {e}")))?;
     for ext in raw.extensions_required() {

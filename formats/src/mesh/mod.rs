@@ -56,12 +56,12 @@ impl Mesh {
 #[derive(Debug, Error)]
 pub enum MeshError {
     /// The file could not be read.
-    #[error("{path}: {source}")]
+    #[error("{path}: {error}")]
     Io {
         /// The file.
         path: String,
-        /// The cause.
-        source: std::io::Error,
+        /// The cause (not a `source()`: the message already says it).
+        error: std::io::Error,
     },
     /// The file is broken; the message says where.
     #[error("{path}: {message}")]
@@ -92,6 +92,17 @@ pub fn load(path: &Path) -> Result<Mesh, MeshError> {
             ));
         }
     };
+    validate(path, mesh)
+}
+
+/// Import OBJ text from elsewhere (standard input): `name` is how messages
+/// call it, `dir` where material libraries are looked for.
+pub fn load_obj_bytes(bytes: &[u8], name: &Path, dir: &Path) -> Result<Mesh, MeshError> {
+    validate(name, obj::load_bytes(bytes, name, dir)?)
+}
+
+/// What every importer's mesh must satisfy: finite positions, some faces.
+fn validate(path: &Path, mesh: Mesh) -> Result<Mesh, MeshError> {
     if let Some((i, _)) = mesh.positions.iter().enumerate().find(|(_, p)| !p.is_finite()) {
         return Err(MeshError::invalid(path, format!("position {i} is not a finite number")));
     }

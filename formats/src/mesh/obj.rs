@@ -36,19 +36,58 @@ fn strip_face_attributes(text: &str) -> String {
 }
 
 /// Drop lines tobj refuses although exporters write them (`usemtl` with no
-/// name, from Blender), with a warning each.
+/// name, from Blender), with a warning each, and the `l` (polyline) and `p`
+/// (point) elements, which tobj would read as faces and NFF cannot show,
+/// with one warning counting them. Lines stay in place (as blanks) so line
+/// numbers in later messages are the file's.
 fn sanitize(text: &str, warnings: &mut Vec<String>) -> String {
     let mut out = String::with_capacity(text.len());
+    let (mut lines, mut points) = (0, 0);
     for (i, line) in text.lines().enumerate() {
         let mut words = line.split_whitespace();
-        if words.next() == Some("usemtl") && words.next().is_none() {
-            warnings.push(format!("line {}: `usemtl` without a name ignored", i + 1));
-            continue;
+        match words.next() {
+            Some("usemtl") if words.next().is_none() => {
+                warnings.push(format!("line {}: `usemtl` without a name ignored", i + 1));
+            }
+            Some("l") => lines += 1,
+            Some("p") => points += 1,
+            _ => out.push_str(line),
         }
-        out.push_str(line);
         out.push('\n');
     }
+    if lines + points > 0 {
+        warnings.push(format!(
+            "{lines} polyline (`l`) and {points} point (`p`) element{} skipped: NFF has no lines or points",
+            if lines + points == 1 { "" } else { "s" }
+        ));
+    }
     out
+}
+
+/// The first face that names a vertex not defined before it (OBJ counts
+/// `v` lines so far; negative indices count back), as a message.
+fn bad_vertex_index(text: &str) -> Option<String> {
+    let mut defined: i64 = 0;
+    for (i, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => defined += 1,
+            Some("f") => {
+                for w in words {
+                    let Ok(k) = w.split('/').next().unwrap_or("").parse::<i64>() else { continue };
+                    if k == 0 || k > defined || -k > defined {
+                        return Some(format!(
+                            "line {}: `{}` names vertex {k}, but {defined} vertices are defined before it",
+                            i + 1,
+                            line.trim()
+                        ));
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    None
 }
 
 /// For tobj's errors, which carry no position: the first line that cannot be
@@ -78,7 +117,15 @@ fn locate(text: &str, e: &tobj::LoadError) -> Option<String> {
 /// Import an OBJ file.
 pub fn load(path: &Path) -> Result<Mesh, MeshError> {
     let bytes =
-        std::fs::read(path).map_err(|source| MeshError::Io { path: path.display().to_string(), source })?;
+        std::fs::read(path).map_err(|error| MeshError::Io { path: path.display().to_string(), error })?;
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    load_bytes(&bytes, path, &dir)
+}
+
+/// Import OBJ text read elsewhere (standard input): `name` is how messages
+/// call it, `dir` where its material libraries are looked for.
+pub fn load_bytes(bytes: &[u8], name: &Path, dir: &Path) -> Result<Mesh, MeshError> {
+    let path = name;
     if bytes.starts_with(&[0xFE, 0xFF]) || bytes.starts_with(&[0xFF, 0xFE]) {
         return Err(MeshError::invalid(
             path,
@@ -86,8 +133,7 @@ pub fn load(path: &Path) -> Result<Mesh, MeshError> {
         ));
     }
     let mut warnings = Vec::new();
-    let text = sanitize(&String::from_utf8_lossy(&bytes), &mut warnings);
-    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let text = sanitize(&String::from_utf8_lossy(bytes), &mut warnings);
     let mtl_warning = std::cell::RefCell::new(Vec::<String>::new());
     let loader = |p: &Path| {
         let full = dir.join(p);
@@ -127,7 +173,9 @@ pub fn load(path: &Path) -> Result<Mesh, MeshError> {
 fn describe(text: &str, e: tobj::LoadError) -> String {
     let at = locate(text, &e).map(|l| format!(" at {l}")).unwrap_or_default();
     match e {
-        tobj::LoadError::FaceVertexOutOfBounds => "a face names a vertex that does not exist".into(),
+        tobj::LoadError::FaceVertexOutOfBounds => {
+            bad_vertex_index(text).unwrap_or_else(|| "a face names a vertex that does not exist".into())
+        }
         other => format!("not a readable OBJ file: {other}{at}"),
     }
 }

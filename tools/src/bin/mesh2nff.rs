@@ -17,7 +17,8 @@ use std::process::ExitCode;
 #[derive(Parser, Debug)]
 #[command(name = "mesh2nff", version)]
 struct Args {
-    /// The model.
+    /// The model (.obj, .gltf, .glb); `-` reads OBJ from standard input
+    /// (material libraries are then looked for in the current folder).
     model: PathBuf,
     /// Output file (default: standard output). Written atomically.
     #[arg(short, long)]
@@ -62,10 +63,28 @@ fn run(a: &Args) -> Result<()> {
     if !(a.scale.is_finite() && a.scale != 0.0) {
         anyhow::bail!("--scale must be a finite, non-zero number");
     }
-    let mesh = nffkit_formats::mesh::load(&a.model).context("cannot convert")?;
+    let name = if a.model.as_os_str() == "-" { "<stdin>".into() } else { a.model.display().to_string() };
+    if let Some(out) = &a.output {
+        let same = |p: &std::path::Path| std::fs::canonicalize(p).ok();
+        if a.model.as_os_str() != "-" && same(out).is_some() && same(out) == same(&a.model) {
+            anyhow::bail!("-o {} is the input model; refusing to overwrite it", out.display());
+        }
+    }
+    let mesh = if a.model.as_os_str() == "-" {
+        let mut bytes = Vec::new();
+        std::io::Read::read_to_end(&mut std::io::stdin(), &mut bytes).context("reading standard input")?;
+        nffkit_formats::mesh::load_obj_bytes(
+            &bytes,
+            std::path::Path::new("<stdin>"),
+            std::path::Path::new("."),
+        )
+    } else {
+        nffkit_formats::mesh::load(&a.model)
+    }
+    .context("cannot convert")?;
     if !a.quiet {
         for w in &mesh.warnings {
-            eprintln!("mesh2nff: warning: {}: {w}", a.model.display());
+            eprintln!("mesh2nff: warning: {name}: {w}");
         }
     }
     let opts = Options {
@@ -78,6 +97,7 @@ fn run(a: &Args) -> Result<()> {
         flat: a.flat,
         smooth: a.smooth,
     };
+    nffkit_tools::mesh2nff::check(&mesh, &opts).with_context(|| format!("cannot convert {name}"))?;
     let mut summary = None;
     cli_util::write_output(a.output.as_deref(), |w| {
         let (_, s) = write(&mesh, &opts, w).map_err(std::io::Error::other)?;
