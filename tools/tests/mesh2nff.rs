@@ -127,7 +127,7 @@ fn bad_meshes_are_refused_with_the_file_named() {
     assert!(e.contains("KHR_draco_mesh_compression"), "{e}");
     let missing = r#"{"asset":{"version":"2.0"},"buffers":[{"uri":"gone.bin","byteLength":36}]}"#;
     let e = nffkit_formats::mesh::load(&write_file(dir.path(), "m.gltf", missing)).unwrap_err().to_string();
-    assert!(e.contains("m.gltf") && e.contains("buffers"), "{e}");
+    assert!(e.contains("m.gltf") && e.contains("`gone.bin`, which is missing"), "{e}");
 }
 
 fn base64(data: &[u8]) -> String {
@@ -455,4 +455,35 @@ fn a_negative_scale_mirrors_and_keeps_faces_outward() {
         let face_centre = v.iter().sum::<DVec3>() / v.len() as f64;
         assert!(normal(&prim.shape).dot(face_centre - centre) > 0.0, "a face turned inward");
     }
+}
+
+#[test]
+fn gltf_leniency_where_geometry_is_readable_and_clear_refusals_where_not() {
+    let dir = tempfile::tempdir().unwrap();
+    let load = |name: &str, json: &str| nffkit_formats::mesh::load(&write_file(dir.path(), name, json));
+    // No accessor min/max: read, with a warning.
+    let plain = gltf_json(&TRI, None, "", 4, "", None);
+    let no_bounds = plain.replace(r#","min":[0.0, 0.0, 0.0],"max":[1.0, 1.0, 0.0]"#, "");
+    assert_ne!(no_bounds, plain, "the helper's bounds were removed");
+    let m = load("nb.gltf", &no_bounds).unwrap();
+    assert_eq!(m.faces.len(), 1);
+    assert!(m.warnings.iter().any(|w| w.contains("min`/`max")), "{:?}", m.warnings);
+    // A required extension that does not change geometry: read, with a warning.
+    let ext = r#""extensionsUsed":["KHR_texture_transform"],"extensionsRequired":["KHR_texture_transform"],"#;
+    let m = load("tt.gltf", &gltf_json(&TRI, None, ext, 4, "", None)).unwrap();
+    assert!(m.warnings.iter().any(|w| w.contains("KHR_texture_transform")), "{:?}", m.warnings);
+    // glTF 1.0, a missing buffer file and quantized positions: named refusals.
+    let e = load("v1.gltf", r#"{"asset":{"version":"1.0"},"meshes":{}}"#).unwrap_err().to_string();
+    assert!(e.contains("glTF 1.0 is not supported"), "{e}");
+    let gone =
+        plain.replace(&format!("data:application/octet-stream;base64,{}", base64(&tri_bytes())), "gone.bin");
+    let e = load("gone.gltf", &gone).unwrap_err().to_string();
+    assert!(e.contains("`gone.bin`, which is missing"), "{e}");
+    let quantized = plain.replace(r#""componentType":5126"#, r#""componentType":5122,"normalized":true"#);
+    let e = load("q.gltf", &quantized).unwrap_err().to_string();
+    assert!(e.contains("KHR_mesh_quantization"), "{e}");
+}
+
+fn tri_bytes() -> Vec<u8> {
+    TRI.iter().flat_map(|f| f.to_le_bytes()).collect()
 }

@@ -35,8 +35,14 @@ const GEOMETRY_EXTENSIONS: [&str; 3] =
 pub fn load(path: &Path) -> Result<Mesh, MeshError> {
     let bytes =
         std::fs::read(path).map_err(|error| MeshError::Io { path: path.display().to_string(), error })?;
-    let raw = Gltf::from_slice_without_validation(&bytes)
-        .map_err(|e| MeshError::invalid(path, format!("not a readable glTF file: {e}")))?;
+    let raw = Gltf::from_slice_without_validation(&bytes).map_err(|e| {
+        let why = if is_gltf_1(&bytes) {
+            "glTF 1.0 is not supported (only glTF 2.0; convert it first)".to_string()
+        } else {
+            format!("not a readable glTF file: {e}")
+        };
+        MeshError::invalid(path, why)
+    })?;
     for ext in raw.extensions_required() {
         if GEOMETRY_EXTENSIONS.contains(&ext) {
             return Err(MeshError::invalid(
@@ -45,12 +51,14 @@ pub fn load(path: &Path) -> Result<Mesh, MeshError> {
             ));
         }
     }
-    let gltf = Gltf::from_slice(&bytes).map_err(|e| MeshError::invalid(path, e.to_string()))?;
+    let mut warnings = Vec::new();
+    let gltf = validated(raw, &bytes, path, &mut warnings)?;
     let base = path.parent();
+    check_buffer_files(&gltf.document, base, path)?;
     let buffers = ::gltf::import_buffers(&gltf.document, base, gltf.blob.clone())
         .map_err(|e| MeshError::invalid(path, format!("cannot load its buffers: {e}")))?;
     let doc = &gltf.document;
-    let mut mesh = Mesh { materials: vec![Material::default()], ..Default::default() };
+    let mut mesh = Mesh { materials: vec![Material::default()], warnings, ..Default::default() };
     mesh.materials.extend(doc.materials().map(convert_material));
     if doc.materials().any(|m| m.pbr_metallic_roughness().base_color_texture().is_some())
         || doc.textures().count() > 0
@@ -79,6 +87,77 @@ pub fn load(path: &Path) -> Result<Mesh, MeshError> {
         ));
     }
     Ok(mesh)
+}
+
+/// Whether the bytes are a glTF 1.0 file: a GLB of version 1, or JSON whose
+/// asset version starts with "1".
+fn is_gltf_1(bytes: &[u8]) -> bool {
+    if bytes.len() >= 8 && &bytes[..4] == b"glTF" {
+        return u32::from_le_bytes([bytes[4], bytes[5], bytes[6], bytes[7]]) == 1;
+    }
+    let text = String::from_utf8_lossy(&bytes[..bytes.len().min(4096)]);
+    text.find("\"version\"").is_some_and(|i| {
+        let rest = text[i + 9..].trim_start_matches(|c: char| c.is_whitespace() || c == ':');
+        rest.starts_with("\"1")
+    })
+}
+
+/// The document, validated; the spec breaches that do not stop reading the
+/// geometry become warnings: accessors without `min`/`max` (nothing here
+/// needs them) and required extensions that do not change geometry
+/// (texture transforms, material extensions).
+fn validated(raw: Gltf, bytes: &[u8], path: &Path, warnings: &mut Vec<String>) -> Result<Gltf, MeshError> {
+    use ::gltf::json::validation::Error as V;
+    let errors = match Gltf::from_slice(bytes) {
+        Ok(g) => return Ok(g),
+        Err(::gltf::Error::Validation(errors)) => errors,
+        Err(e) => return Err(MeshError::invalid(path, e.to_string())),
+    };
+    let mut fatal = Vec::new();
+    let mut no_bounds = 0;
+    for (where_, e) in &errors {
+        let at = where_.to_string();
+        match e {
+            V::Missing if at.ends_with(".min") || at.ends_with(".max") => no_bounds += 1,
+            V::Unsupported if at.starts_with("extensionsRequired") => warnings.push(format!(
+                "{at}: not supported, but it does not change geometry; ignored (the look may differ)"
+            )),
+            _ => fatal.push(format!("{at}: {e}")),
+        }
+    }
+    if !fatal.is_empty() {
+        return Err(MeshError::invalid(path, format!("invalid glTF: {}", fatal.join("; "))));
+    }
+    if no_bounds > 0 {
+        warnings.push(format!(
+            "{} accessor bounds (`min`/`max`, required by the spec for positions) missing; computed from the data",
+            no_bounds
+        ));
+    }
+    Ok(raw)
+}
+
+/// Every external buffer file exists, or an error naming it.
+fn check_buffer_files(doc: &::gltf::Document, base: Option<&Path>, path: &Path) -> Result<(), MeshError> {
+    for b in doc.buffers() {
+        if let ::gltf::buffer::Source::Uri(uri) = b.source() {
+            if uri.starts_with("data:") {
+                continue;
+            }
+            let file = base.unwrap_or(Path::new(".")).join(uri);
+            if !file.is_file() {
+                return Err(MeshError::invalid(
+                    path,
+                    format!(
+                        "buffer {} is the file `{uri}`, which is missing (looked for {})",
+                        b.index(),
+                        file.display()
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 struct State<'a> {
@@ -133,6 +212,18 @@ impl State<'_> {
         let buffers = self.buffers;
         let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
         let accessor = prim.get(&::gltf::Semantic::Positions).map(|a| a.index());
+        if let Some(a) = prim.get(&::gltf::Semantic::Positions) {
+            if a.data_type() != ::gltf::accessor::DataType::F32 {
+                return Err(MeshError::invalid(
+                    self.path,
+                    format!(
+                        "POSITION accessor {} holds {:?} integers (quantized, KHR_mesh_quantization), which this importer does not read",
+                        a.index(),
+                        a.data_type()
+                    ),
+                ));
+            }
+        }
         let Some(positions) = reader.read_positions() else {
             return Err(MeshError::invalid(self.path, "a primitive has no POSITION attribute"));
         };
