@@ -19,7 +19,7 @@ use anyhow::{bail, Context, Result};
 use nffkit_formats::nff::{self, ParseOptions};
 use nffkit_formats::Scene;
 use nffkit_tracer::accel::Intersector;
-use nffkit_tracer::math::{offset_ray_origin, Ray, RayQuery};
+use nffkit_tracer::math::{shadow_ray, RayQuery};
 use nffkit_tracer::prepare::{prepare, PrepareOptions, RenderScene};
 use nffkit_tracer::render::render;
 use nffkit_tracer::stats::Counters;
@@ -86,10 +86,9 @@ fn rates_with<I: Intersector>(scene: &RenderScene, accel: &I, runs: u32) -> RayR
             if n.dot(l) <= 0.0 {
                 continue;
             }
-            let o = offset_ray_origin(s.p, n);
-            let d = light.position - o;
-            let max = d.length();
-            shadow.push((RayQuery::new(Ray { o, d: d / max }, 0.0), max));
+            if let Some((ray, max)) = shadow_ray(s.p, light.position, n) {
+                shadow.push((RayQuery::new(ray, 0.0), max));
+            }
         }
     }
     let mut blocked = 0;

@@ -146,13 +146,15 @@ pub fn framing_view(b: (DVec3, DVec3), o: &Options) -> (View, Vec<Light>) {
     (view, lights)
 }
 
-/// Refuse a mesh whose faces all have zero area (after --scale and --fit),
-/// as an empty mesh is refused: before anything is written.
-pub fn check(mesh: &Mesh, o: &Options) -> Result<()> {
-    let pos = transform(mesh, o);
+/// Refuse a mesh whose faces all have zero area, as an empty mesh is:
+/// before anything is written. (A uniform scale, shift or fit never gives
+/// a face area or takes it away, so the source positions decide.)
+pub fn check(mesh: &Mesh) -> Result<()> {
+    let mut verts = Vec::new();
     let has_area = |f: &Face| {
-        let v: Vec<DVec3> = mesh.corners_of(f).iter().map(|c| pos[c.position as usize]).collect();
-        newell_normal(&v).length_squared() > 0.0
+        verts.clear();
+        verts.extend(mesh.corners_of(f).iter().map(|c| mesh.positions[c.position as usize]));
+        newell_normal(&verts).length_squared() > 0.0
     };
     if !mesh.faces.iter().any(has_area) {
         anyhow::bail!("the mesh has no faces with any area (all {} are degenerate)", mesh.faces.len());
@@ -162,7 +164,7 @@ pub fn check(mesh: &Mesh, o: &Options) -> Result<()> {
 
 /// Write the mesh as NFF to `out`, streaming faces.
 pub fn write<W: Write>(mesh: &Mesh, o: &Options, out: W) -> Result<(W, Summary)> {
-    check(mesh, o)?;
+    check(mesh)?;
     let pos = transform(mesh, o);
     let smooth = (o.smooth && !o.flat).then(|| smooth_normals(mesh, &pos));
     let b = bounds(mesh.corners.iter().map(|c| pos[c.position as usize]));

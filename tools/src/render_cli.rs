@@ -10,7 +10,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use nffkit_formats::image_io::{self, ImageKind};
 use nffkit_formats::nff::ParseOptions;
 use nffkit_tracer::film::cost_heatmap;
-use nffkit_tracer::prepare::{prepare, Ambient};
+use nffkit_tracer::prepare::prepare;
 use nffkit_tracer::render::{render, PixelWindow};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -68,11 +68,10 @@ fn render_command(cfg: &RenderConfig) -> Result<()> {
         None => (default_scene::default_scene(), "built-in default scene".to_string()),
     };
     let t_parse = t_start.elapsed().as_secs_f64();
-    let ambient = !matches!(cfg.prepare.ambient, Ambient::Off | Ambient::Value(0.0));
-    if let Some(w) = lighting::unlit_warning(&scene, ambient).filter(|_| !cfg.quiet) {
+    let prepared = prepare(&scene, &cfg.prepare).with_context(|| name.clone())?;
+    if let Some(w) = lighting::unlit_warning(&scene, prepared.ambient > 0.0).filter(|_| !cfg.quiet) {
         eprintln!("warning: {name}: {w}");
     }
-    let prepared = prepare(&scene, &cfg.prepare).with_context(|| name.clone())?;
     let full = prepared.camera.resolution();
     let mut settings = cfg.settings.clone();
     settings.window = cfg.part.map(|p| p.window(full.0, full.1)).transpose()?;

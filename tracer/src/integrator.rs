@@ -18,7 +18,7 @@
 //!   reflection, when the transmitted share goes to that one reflection ray.
 
 use crate::accel::{test_shadow, Intersector};
-use crate::math::{basis, offset_ray_origin, reflect, refract, Ray, RayQuery};
+use crate::math::{basis, offset_ray_origin, reflect, refract, shadow_ray, Ray, RayQuery};
 use crate::prepare::RenderScene;
 use crate::sampling::{concentric_disk, Sampler};
 use crate::shadow_cache::ShadowCache;
@@ -174,13 +174,9 @@ impl<I: Intersector> Whitted<'_, I> {
     }
 
     /// The direction to a light at `pos` and N·L, when the light faces the
-    /// point and its shadow ray is clear (counting the shadow ray). The
-    /// shadow cache's primitive for (light, depth) is tested first.
-    ///
-    /// The shadow segment is shortened at both ends by the same robust
-    /// offset: off the surface at `p`, and short of the light at `pos`, so a
-    /// light lying in the plane of a polygon (a lamp on a wall) is not
-    /// shadowed by that polygon through rounding.
+    /// point and its shadow ray ([`shadow_ray`]) is clear, counting the
+    /// shadow ray. The shadow cache's primitive for (light, depth) is tested
+    /// first.
     #[inline]
     fn lit(
         &self,
@@ -202,15 +198,9 @@ impl<I: Intersector> Whitted<'_, I> {
             return None;
         }
         let side = if ng.dot(l) >= 0.0 { ng } else { -ng };
-        let origin = offset_ray_origin(p, side);
-        let dir = (pos - origin).normalize();
-        let end = offset_ray_origin(pos, -dir);
-        let max = (end - origin).dot(dir);
         th.counters.shadow += 1;
-        if max <= 0.0 {
-            return None;
-        }
-        let sq = RayQuery::new(Ray { o: origin, d: dir }, 0.0);
+        let (ray, max) = shadow_ray(p, pos, side)?;
+        let sq = RayQuery::new(ray, 0.0);
         let geom = &self.scene.geometry;
         if let Some(id) = th.shadow_cache.get(light, depth) {
             if test_shadow(geom, id, &sq, max, &mut th.counters) {

@@ -122,6 +122,21 @@ pub fn offset_ray_origin(p: Vec3A, n: Vec3A) -> Vec3A {
     Vec3A::from_array(out)
 }
 
+/// The shadow ray from surface point `p` to a light at `light`, leaving on
+/// the side of normal `side`, and its length: the segment is shortened at
+/// both ends by the same robust offset, off the surface at `p` and short of
+/// the light, so a light lying in the plane of a polygon (a lamp on a wall)
+/// is not shadowed by that polygon through rounding. `None` when nothing is
+/// left of the segment.
+#[inline]
+pub fn shadow_ray(p: Vec3A, light: Vec3A, side: Vec3A) -> Option<(Ray, f32)> {
+    let origin = offset_ray_origin(p, side);
+    let dir = (light - origin).normalize();
+    let end = offset_ray_origin(light, -dir);
+    let max = (end - origin).dot(dir);
+    (max > 0.0).then_some((Ray { o: origin, d: dir }, max))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -31,7 +31,7 @@ pub struct PrepareOptions {
 }
 
 /// Ambient light: `ambient × colour × Kd` added at every hit.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Ambient {
     /// A fixed intensity (0, the default, is the classic image).
     Value(f32),
@@ -39,9 +39,13 @@ pub enum Ambient {
     /// colour of its own at `sqrt(n) / (2 n)` = `1 / (2 sqrt(n))` for `n`
     /// lights (`n` taken as 1 when there are none).
     Spd,
-    /// None.
-    #[default]
-    Off,
+}
+
+impl Default for Ambient {
+    /// None: the classic image.
+    fn default() -> Self {
+        Ambient::Value(0.0)
+    }
 }
 
 /// Why a scene cannot be rendered.
@@ -93,7 +97,6 @@ pub fn prepare(scene: &Scene, opts: &PrepareOptions) -> Result<RenderScene, Prep
     // 1/(2 sqrt(n)) with the SPD Readme's ambient term beside them.
     let root_n = (scene.lights.len().max(1) as f32).sqrt();
     let (default_i, ambient) = match opts.ambient {
-        Ambient::Off => (1.0 / root_n, 0.0),
         Ambient::Value(a) => (1.0 / root_n, a),
         Ambient::Spd => (0.5 / root_n, 0.5 / root_n),
     };

@@ -49,12 +49,8 @@ pub struct Lexer<'a> {
 }
 
 impl<'a> Lexer<'a> {
-    pub fn new(src: &'a [u8]) -> Self {
-        Self::starting_at(src, 1)
-    }
-
-    /// A lexer over a piece of a file that begins at the start of line
-    /// `line` (for parsing a large file in chunks).
+    /// A lexer over `src`, which begins at the start of line `line` of its
+    /// file (1 for a whole file; later for a chunk of a large one).
     pub fn starting_at(src: &'a [u8], line: u32) -> Self {
         Lexer { src, pos: 0, line, line_start: 0, last_line: 0 }
     }
@@ -103,7 +99,7 @@ mod tests {
     use super::*;
 
     fn tokens(s: &str) -> Vec<(String, u32, u32)> {
-        Lexer::new(s.as_bytes()).map(|t| (t.display(), t.line, t.column)).collect()
+        Lexer::starting_at(s.as_bytes(), 1).map(|t| (t.display(), t.line, t.column)).collect()
     }
 
     #[test]

@@ -1,6 +1,6 @@
 //! Reading a large file on every core: the file is cut into chunks at lines
-//! that start an entity (`s`, `p`, `pp`, `c`, `f`, `l`, `b`, `v`: a line
-//! starting with one of these words can only begin an entity, since numbers
+//! that start an entity (`s`, `p`, `pp`, `c`, `f`, `l`, `b`, `v`, the
+//! reader's own keyword list: a line starting with one of these words can only begin an entity, since numbers
 //! never start with a letter and comments start with `#`), each chunk is
 //! read on its own thread as a fragment, and the parts are joined.
 //!
@@ -13,7 +13,7 @@
 //! back to the sequential reader, so the result and the diagnostics are
 //! always exactly those of reading it in one piece.
 
-use super::parse::{parse_chunk, ParseOptions, Parsed};
+use super::parse::{parse_chunk, ParseOptions, Parsed, ENTITY_KEYWORDS};
 use crate::scene::Scene;
 
 /// Files at least this large are read in parallel.
@@ -76,15 +76,16 @@ fn split_points(src: &[u8], chunks: usize) -> Vec<usize> {
     starts
 }
 
-/// The first line at or after `from` that starts with an entity keyword
-/// followed by a space or tab.
+/// The first line at or after `from` that starts with an NFF entity keyword
+/// (the course extensions are left out: their notes would send the file
+/// back to the sequential reader anyway) followed by a space or tab.
 fn next_entity_line(src: &[u8], from: usize) -> Option<usize> {
     let mut i = from;
     while i < src.len() {
         let nl = i + src[i..].iter().position(|&b| b == b'\n')?;
         let line = &src[nl + 1..];
         let word_end = line.iter().position(|&b| b == b' ' || b == b'\t').unwrap_or(0);
-        if matches!(&line[..word_end], b"s" | b"p" | b"pp" | b"c" | b"f" | b"l" | b"b" | b"v") {
+        if word_end > 0 && ENTITY_KEYWORDS.contains(&&line[..word_end]) {
             return Some(nl + 1);
         }
         i = nl + 1;

@@ -95,7 +95,7 @@ pub fn parse_sequential(src: &[u8], opts: &ParseOptions) -> Result<Parsed, Parse
         Some(rest) => (rest, true),
         None => (src, false),
     };
-    let mut p = Parser::new(strip_dos_eof(src), *opts);
+    let mut p = Parser::new(strip_dos_eof(src), 1, *opts);
     if bom {
         p.diags.push(Diagnostic {
             severity: Severity::Warning,
@@ -114,8 +114,7 @@ pub fn parse_sequential(src: &[u8], opts: &ParseOptions) -> Result<Parsed, Parse
 /// indices local to the chunk) and its diagnostics. `first_line` is the line
 /// the chunk starts at.
 pub(super) fn parse_chunk(src: &[u8], first_line: u32, opts: &ParseOptions) -> (Scene, Vec<Diagnostic>) {
-    let mut p = Parser::new(src, ParseOptions { fragment: true, ..*opts });
-    p.lexer = Lexer::starting_at(src, first_line);
+    let mut p = Parser::new(src, first_line, ParseOptions { fragment: true, ..*opts });
     p.run();
     (p.scene, p.diags)
 }
@@ -139,7 +138,7 @@ const MAX_VERTICES: u64 = 1 << 24;
 /// Largest image side accepted in a `resolution` line.
 const MAX_RESOLUTION: u64 = 1 << 16;
 
-const ENTITY_KEYWORDS: [&[u8]; 8] = [b"v", b"b", b"l", b"f", b"c", b"s", b"p", b"pp"];
+pub(super) const ENTITY_KEYWORDS: [&[u8]; 8] = [b"v", b"b", b"l", b"f", b"c", b"s", b"p", b"pp"];
 /// The 2017 course's extensions (see the module doc).
 const EXTENSION_KEYWORDS: [&[u8]; 2] = [b"pl", b"aabb"];
 const VIEW_KEYWORDS: [&[u8]; 6] = [b"from", b"at", b"up", b"angle", b"hither", b"resolution"];
@@ -218,8 +217,9 @@ struct Parser<'a> {
 type Res<T> = Result<T, Diagnostic>;
 
 impl<'a> Parser<'a> {
-    fn new(src: &'a [u8], opts: ParseOptions) -> Self {
-        let lexer = Lexer::new(src);
+    /// A parser over `src`, which starts at line `first_line` of its file.
+    fn new(src: &'a [u8], first_line: u32, opts: ParseOptions) -> Self {
+        let lexer = Lexer::starting_at(src, first_line);
         Parser {
             lexer,
             peeked: None,

@@ -26,22 +26,23 @@ pub struct FiguresSection {
     pub table1: String,
 }
 
-fn png(dir: &Path, rel: &str, img: &RgbImage) -> Result<String> {
+/// Write `bytes` to `dir/rel`, making its folder; returns `rel` for the
+/// page's `src`.
+fn file(dir: &Path, rel: &str, bytes: &[u8]) -> Result<String> {
     let path = dir.join(rel);
     if let Some(parent) = path.parent() {
         std::fs::create_dir_all(parent).with_context(|| format!("cannot create {}", parent.display()))?;
     }
-    atomic::write_bytes(&path, &image_io::encode(img, ImageKind::Png, false)?)?;
+    atomic::write_bytes(&path, bytes)?;
     Ok(rel.to_string())
 }
 
+fn png(dir: &Path, rel: &str, img: &RgbImage) -> Result<String> {
+    file(dir, rel, &image_io::encode(img, ImageKind::Png, false)?)
+}
+
 fn text(dir: &Path, rel: &str, content: &str) -> Result<String> {
-    let path = dir.join(rel);
-    if let Some(parent) = path.parent() {
-        std::fs::create_dir_all(parent).with_context(|| format!("cannot create {}", parent.display()))?;
-    }
-    atomic::write_bytes(&path, content.as_bytes())?;
-    Ok(rel.to_string())
+    file(dir, rel, content.as_bytes())
 }
 
 /// The 1D profile of a filter over its support, as an SVG.

@@ -65,8 +65,11 @@ fn run(a: &Args) -> Result<()> {
     }
     let name = if a.model.as_os_str() == "-" { "<stdin>".into() } else { a.model.display().to_string() };
     if let Some(out) = &a.output {
-        let same = |p: &std::path::Path| std::fs::canonicalize(p).ok();
-        if a.model.as_os_str() != "-" && same(out).is_some() && same(out) == same(&a.model) {
+        let existing = std::fs::canonicalize(out).ok();
+        if a.model.as_os_str() != "-"
+            && existing.is_some()
+            && existing == std::fs::canonicalize(&a.model).ok()
+        {
             anyhow::bail!("-o {} is the input model; refusing to overwrite it", out.display());
         }
     }
@@ -97,7 +100,7 @@ fn run(a: &Args) -> Result<()> {
         flat: a.flat,
         smooth: a.smooth,
     };
-    nffkit_tools::mesh2nff::check(&mesh, &opts).with_context(|| format!("cannot convert {name}"))?;
+    nffkit_tools::mesh2nff::check(&mesh).with_context(|| format!("cannot convert {name}"))?;
     let mut summary = None;
     cli_util::write_output(a.output.as_deref(), |w| {
         let (_, s) = write(&mesh, &opts, w).map_err(std::io::Error::other)?;

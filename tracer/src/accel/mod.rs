@@ -6,7 +6,7 @@
 //!
 //! Infinite planes (the course files' `pl`) have no box, so no structure
 //! holds them: each is built over the bounded ids only, and
-//! [`Intersector::intersect`] and [`Intersector::occluded`] test the planes
+//! [`Intersector::intersect`] and [`Intersector::occluder`] test the planes
 //! beside it, under the same tie rule (planes have the highest ids).
 
 mod brute;
