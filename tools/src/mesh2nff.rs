@@ -2,17 +2,32 @@
 //!
 //! Faces with normals become `pp` patches, others `p` polygons. A face of
 //! more than three corners stays one polygon when it is planar and convex;
-//! otherwise it is ear-clipped into triangles (winding preserved). Unless
-//! `--no-view`, a view, two lights and a background frame the model.
+//! otherwise it is ear-clipped into triangles (winding preserved). Faces
+//! with their own colour (textures, vertex colours) get an `f` line whenever
+//! the colour, quantised to [`COLOR_STEPS`] levels, changes; emitting faces
+//! show their emitted colour and become lights ([`emission`]).
+//!
+//! Unless `--no-view`, a background, a view and lights follow
+//! ([`view`]): the file's camera when it asks for one (or has exactly one),
+//! else a framing view; lights per [`Lights`], checked by small test renders
+//! ([`probe`]) so what the camera sees is lit.
 
-use anyhow::Result;
+pub mod emission;
+pub mod probe;
+pub mod view;
+
+use anyhow::{Context, Result};
 use glam::DVec3;
-use nffkit_formats::mesh::{Corner, Face, Mesh};
+use nffkit_formats::mesh::{Corner, Face, Mesh, MeshCamera};
 use nffkit_formats::nff::NffWriter;
 use nffkit_formats::polygon::newell_normal;
-use nffkit_formats::{Light, View};
+use nffkit_formats::{Light, Material, View};
 use nffkit_tracer::triangulate::triangulate;
 use std::io::Write;
+
+/// Levels per colour channel for per-face colours: finer than 8-bit output
+/// cannot show, and equal colours share one `f` line.
+pub const COLOR_STEPS: f64 = 255.0;
 
 /// The up axis of the source, for the view.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -23,13 +38,28 @@ pub enum Up {
     Z,
 }
 
+/// Which lights to add to the model's own (emission always becomes lights).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Lights {
+    /// Framing lights when nothing emits; a light at the eye as well when
+    /// the eye is inside the model's box or test renders find most of what
+    /// the camera sees unlit.
+    #[default]
+    Auto,
+    /// A light at the eye (a headlight) and no framing lights.
+    Eye,
+    /// None: only the model's emission.
+    None,
+}
+
 /// Conversion options.
 #[derive(Debug, Clone)]
 pub struct Options {
     /// Write a view, lights and background.
     pub view: bool,
-    /// Image size of the view.
-    pub resolution: [u32; 2],
+    /// Image size of the view (default 512 × 512, or 512 wide at a file
+    /// camera's aspect ratio).
+    pub resolution: Option<[u32; 2]>,
     /// Up axis for the view.
     pub up: Up,
     /// Uniform scale applied to positions.
@@ -42,19 +72,25 @@ pub struct Options {
     pub flat: bool,
     /// Compute area-weighted vertex normals for faces without normals.
     pub smooth: bool,
+    /// Lights to add.
+    pub lights: Lights,
+    /// Use the file's perspective camera of this index (in the order met).
+    pub camera: Option<usize>,
 }
 
 impl Default for Options {
     fn default() -> Self {
         Options {
             view: true,
-            resolution: [512, 512],
+            resolution: None,
             up: Up::Y,
             scale: 1.0,
             center: false,
             fit: false,
             flat: false,
             smooth: false,
+            lights: Lights::Auto,
+            camera: None,
         }
     }
 }
@@ -70,8 +106,14 @@ pub struct Summary {
     pub triangulated: usize,
     /// Faces dropped for having no area.
     pub degenerate: usize,
+    /// `f` lines written.
+    pub materials: usize,
+    /// Lights made from emitting faces.
+    pub emission_lights: usize,
     /// Output bounds.
     pub bounds: (DVec3, DVec3),
+    /// How the view and lights were chosen, for the user.
+    pub notes: Vec<String>,
 }
 
 fn bounds(points: impl Iterator<Item = DVec3>) -> (DVec3, DVec3) {
@@ -80,16 +122,32 @@ fn bounds(points: impl Iterator<Item = DVec3>) -> (DVec3, DVec3) {
     })
 }
 
-/// Apply --center, --fit and --scale to the positions the faces use.
-fn transform(mesh: &Mesh, o: &Options) -> Vec<DVec3> {
-    let used = bounds(mesh.corners.iter().map(|c| mesh.positions[c.position as usize]));
-    let shift = if o.center || o.fit { (used.0 + used.1) * 0.5 } else { DVec3::ZERO };
-    let fit = if o.fit { 1.0 / (used.1 - used.0).max_element().max(f64::MIN_POSITIVE) } else { 1.0 };
-    let s = o.scale * fit;
-    if shift == DVec3::ZERO && s == 1.0 {
-        return mesh.positions.clone();
+/// What --center, --fit and --scale do to a point: `(p − shift) × scale`.
+#[derive(Debug, Clone, Copy)]
+struct Placement {
+    shift: DVec3,
+    scale: f64,
+}
+
+impl Placement {
+    fn of(mesh: &Mesh, o: &Options) -> Placement {
+        let used = bounds(mesh.corners.iter().map(|c| mesh.positions[c.position as usize]));
+        let shift = if o.center || o.fit { (used.0 + used.1) * 0.5 } else { DVec3::ZERO };
+        let fit = if o.fit { 1.0 / (used.1 - used.0).max_element().max(f64::MIN_POSITIVE) } else { 1.0 };
+        Placement { shift, scale: o.scale * fit }
     }
-    mesh.positions.iter().map(|p| (*p - shift) * s).collect()
+
+    fn apply(&self, p: DVec3) -> DVec3 {
+        (p - self.shift) * self.scale
+    }
+
+    /// The positions the faces use, placed.
+    fn positions(&self, mesh: &Mesh) -> Vec<DVec3> {
+        if self.shift == DVec3::ZERO && self.scale == 1.0 {
+            return mesh.positions.clone();
+        }
+        mesh.positions.iter().map(|p| self.apply(*p)).collect()
+    }
 }
 
 /// Area-weighted normals per position, from the faces that lack normals.
@@ -126,24 +184,9 @@ fn planar_convex(v: &[DVec3]) -> bool {
     })
 }
 
-/// The framing view for the output bounds.
+/// The framing view for the output bounds, from the default direction.
 pub fn framing_view(b: (DVec3, DVec3), o: &Options) -> (View, Vec<Light>) {
-    let center = (b.0 + b.1) * 0.5;
-    let radius = ((b.1 - b.0).length() * 0.5).max(1e-9);
-    let angle: f64 = 40.0;
-    let dist = radius / (angle.to_radians() * 0.5).sin() * 1.05;
-    let (up, dir) = match o.up {
-        Up::Y => (DVec3::Y, DVec3::new(0.55, 0.45, 0.95).normalize()),
-        Up::Z => (DVec3::Z, DVec3::new(0.55, -0.95, 0.45).normalize()),
-    };
-    let from = center + dir * dist;
-    let right = (-dir).cross(up).normalize();
-    let view = View { from, at: center, up, angle, hither: dist * 1e-3, resolution: o.resolution };
-    let lights = vec![
-        Light { position: from + (up * 1.5 + right * 1.0) * radius * 2.0, color: None },
-        Light { position: center + (up * 1.0 - right * 2.0 + dir * 0.5) * radius * 3.0, color: None },
-    ];
-    (view, lights)
+    view::framing(b, o, view::default_direction(o.up))
 }
 
 /// Refuse a mesh whose faces all have zero area, as an empty mesh is:
@@ -162,33 +205,186 @@ pub fn check(mesh: &Mesh) -> Result<()> {
     Ok(())
 }
 
-/// Write the mesh as NFF to `out`, streaming faces.
+/// Write the mesh as NFF to `out`: a header (background, view, lights)
+/// unless `--no-view`, then materials and faces.
 pub fn write<W: Write>(mesh: &Mesh, o: &Options, out: W) -> Result<(W, Summary)> {
     check(mesh)?;
-    let pos = transform(mesh, o);
-    let smooth = (o.smooth && !o.flat).then(|| smooth_normals(mesh, &pos));
+    let place = Placement::of(mesh, o);
+    let pos = place.positions(mesh);
     let b = bounds(mesh.corners.iter().map(|c| pos[c.position as usize]));
+    let mut summary = Summary { bounds: b, ..Default::default() };
+    let mut body = NffWriter::new(Vec::new());
+    write_faces(mesh, o, &pos, &mut body, &mut summary)?;
+    let body = body.into_inner();
     let mut w = NffWriter::new(out);
     w.comment("written by nffkit mesh2nff")?;
     if o.view {
-        let (view, lights) = framing_view(b, o);
+        let (view, lights) = stage(mesh, o, place, &pos, b, &body, &mut summary)?;
         w.background(nffkit_formats::SPD_SKY)?;
         w.view(&view)?;
         for l in &lights {
             w.light(l)?;
         }
     }
-    let mut summary = Summary { bounds: b, ..Default::default() };
+    let mut out = w.into_inner();
+    out.write_all(&body)?;
+    Ok((out, summary))
+}
+
+/// The file camera the view comes from: the one asked for, else the only one.
+fn chosen_camera<'m>(mesh: &'m Mesh, o: &Options) -> Result<Option<(usize, &'m MeshCamera)>> {
+    match o.camera {
+        Some(i) => match mesh.cameras.get(i) {
+            Some(c) => Ok(Some((i, c))),
+            None => anyhow::bail!(
+                "--camera {i}: the model has {} perspective camera{} (numbered from 0)",
+                mesh.cameras.len(),
+                if mesh.cameras.len() == 1 { "" } else { "s" }
+            ),
+        },
+        None if mesh.cameras.len() == 1 => Ok(Some((0, &mesh.cameras[0]))),
+        None => Ok(None),
+    }
+}
+
+/// Choose the view and the lights (module doc).
+fn stage(
+    mesh: &Mesh,
+    o: &Options,
+    place: Placement,
+    pos: &[DVec3],
+    b: (DVec3, DVec3),
+    body: &[u8],
+    summary: &mut Summary,
+) -> Result<(View, Vec<Light>)> {
+    let emission = emission::lights(mesh, pos, o.scale < 0.0, b);
+    summary.emission_lights = emission.len();
+    let centre = (b.0 + b.1) * 0.5;
+    let camera = chosen_camera(mesh, o)?;
+    let needs_probe = o.lights == Lights::Auto || (camera.is_none() && !emission.is_empty());
+    let mut probe = if needs_probe {
+        Some(probe::Probe::new(body, &framing_view(b, o).0).context("test renders for the view")?)
+    } else {
+        None
+    };
+    let (view, framing_lights) = match camera {
+        Some((i, cam)) => {
+            let v = view::camera_view(cam, o, |p| place.apply(p), centre);
+            let name = cam.name.as_deref().map(|n| format!(" `{n}`")).unwrap_or_default();
+            summary.notes.push(format!("view from the model's camera {i}{name}"));
+            let (_, lights) = view::framing(b, o, (v.from - v.at).normalize_or(DVec3::Z));
+            (v, lights)
+        }
+        None => match (&mut probe, emission.is_empty()) {
+            (Some(p), false) => brightest_framing(p, b, o, &emission, summary),
+            _ => framing_view(b, o),
+        },
+    };
+    let mut lights = match o.lights {
+        Lights::Auto if emission.is_empty() => framing_lights,
+        _ => emission.clone(),
+    };
+    let eye = match (o.lights, &mut probe) {
+        (Lights::Eye, _) => Some("--lights eye".to_string()),
+        (Lights::None, _) => None,
+        (Lights::Auto, _) if view::inside(&view, b) => Some("the eye is inside the model's box".into()),
+        (Lights::Auto, Some(p)) => {
+            let seen = p.look(&view, &lights);
+            (seen.covered > 0.0 && seen.lit < 0.5).then(|| {
+                format!("only {:.0}% of what the camera sees is lit by the other lights", seen.lit * 100.0)
+            })
+        }
+        (Lights::Auto, None) => None,
+    };
+    if let Some(why) = eye {
+        // Beside coloured emission lights (which total 1) a half-strength
+        // white fill; alone or beside framing lights, the SPD's 1/sqrt(n).
+        let color = (!emission.is_empty()).then_some(DVec3::splat(0.5));
+        lights.push(view::eye_light(&view, color));
+        summary.notes.push(format!("a light at the eye: {why}"));
+    }
+    if !emission.is_empty() {
+        summary.notes.push(format!("{} light{} from emitting faces", emission.len(), plural(emission.len())));
+    }
+    Ok((view, lights))
+}
+
+fn plural(n: usize) -> &'static str {
+    if n == 1 {
+        ""
+    } else {
+        "s"
+    }
+}
+
+/// The framing view, among the candidate directions, in which the model's
+/// own lights show the most (the default unless another is 10% brighter).
+fn brightest_framing(
+    probe: &mut probe::Probe,
+    b: (DVec3, DVec3),
+    o: &Options,
+    emission: &[Light],
+    summary: &mut Summary,
+) -> (View, Vec<Light>) {
+    let candidates = view::candidate_directions(o.up);
+    let score = |probe: &mut probe::Probe, d: DVec3| probe.look(&view::framing(b, o, d).0, emission).brightness;
+    let default = score(probe, candidates[0]);
+    let (mut best, mut best_score) = (candidates[0], default);
+    for &d in &candidates[1..] {
+        let s = score(probe, d);
+        if s > best_score && s > default * 1.1 {
+            (best, best_score) = (d, s);
+        }
+    }
+    if best != candidates[0] {
+        summary.notes.push(format!(
+            "view from direction ({:.2}, {:.2}, {:.2}), where the model's own lights show best",
+            best.x, best.y, best.z
+        ));
+    }
+    view::framing(b, o, best)
+}
+
+/// The colour key of a face: its own colour (an emitting face shows its
+/// emitted colour at full strength), quantised; `None` for the material's.
+fn color_key(f: &Face) -> Option<[u16; 3]> {
+    let c = match (f.emission, f.color) {
+        (Some(e), _) => {
+            let e = DVec3::from_array(e.map(f64::from));
+            e / e.max_element()
+        }
+        (None, Some(c)) => DVec3::from_array(c.map(f64::from)),
+        (None, None) => return None,
+    };
+    let q = |x: f64| (x.clamp(0.0, 1.0) * COLOR_STEPS).round() as u16;
+    Some([q(c.x), q(c.y), q(c.z)])
+}
+
+/// Materials and faces, grouped by material (in file order within one),
+/// with an `f` line whenever the material or the face colour changes.
+fn write_faces<W: Write>(
+    mesh: &Mesh,
+    o: &Options,
+    pos: &[DVec3],
+    w: &mut NffWriter<W>,
+    summary: &mut Summary,
+) -> Result<()> {
+    let smooth = (o.smooth && !o.flat).then(|| smooth_normals(mesh, pos));
     let mut current = None;
     let mut verts = Vec::new();
     let mut norms = Vec::new();
-    // Faces grouped by material so each `f` line is written once.
     let mut order: Vec<&Face> = mesh.faces.iter().collect();
     order.sort_by_key(|f| f.material);
     for f in order {
-        if current != Some(f.material) {
-            w.material(&mesh.materials[f.material as usize])?;
-            current = Some(f.material);
+        let key = (f.material, color_key(f));
+        if current != Some(key) {
+            let mut m: Material = mesh.materials[f.material as usize].clone();
+            if let Some(c) = key.1 {
+                m.color = DVec3::from_array(c.map(|x| x as f64 / COLOR_STEPS));
+            }
+            w.material(&m)?;
+            summary.materials += 1;
+            current = Some(key);
         }
         let corners = mesh.corners_of(f);
         verts.clear();
@@ -217,17 +413,17 @@ pub fn write<W: Write>(mesh: &Mesh, o: &Options, out: W) -> Result<(W, Summary)>
             continue;
         }
         if verts.len() == 3 || planar_convex(&verts) {
-            emit(&mut w, &verts, with_normals.then_some(&norms[..]), &mut summary)?;
+            emit(w, &verts, with_normals.then_some(&norms[..]), summary)?;
         } else {
             summary.triangulated += 1;
             for t in triangulate(&verts) {
                 let tv = t.map(|i| verts[i as usize]);
                 let tn = with_normals.then(|| t.map(|i| norms[i as usize]));
-                emit(&mut w, &tv, tn.as_ref().map(|n| &n[..]), &mut summary)?;
+                emit(w, &tv, tn.as_ref().map(|n| &n[..]), summary)?;
             }
         }
     }
-    Ok((w.into_inner(), summary))
+    Ok(())
 }
 
 fn emit<W: Write>(

@@ -18,21 +18,34 @@
 //! with α = roughness² (the Blinn-Phong exponent matching that GGX width),
 //! clamped to [1, 10000]; T = KHR_materials_transmission's factor; index of
 //! refraction = KHR_materials_ior (1.5 when transmissive and unspecified).
+//!
+//! Per face: colour = baseColorFactor × the base-colour texture averaged
+//! over the face ([`super::texture`]) × the mean of its corners'
+//! `COLOR_0`; emission = emissiveFactor × KHR_materials_emissive_strength ×
+//! the emissive texture's mean. Images come from the GLB chunk, a data URI
+//! or a file beside the model ([`super::resource`]); one that cannot be read
+//! is a warning naming it, and the factor alone is used.
+//!
+//! Cameras: each node with a perspective camera in the scene walked, in the
+//! order met, with its world position, direction (−Z) and up (+Y).
 
-use super::{Corner, Face, Mesh, MeshError};
+use super::resource::{read_uri, resolve, ImportOptions};
+use super::texture::{Texture, Wrap};
+use super::{Corner, Face, Mesh, MeshCamera, MeshError};
 use crate::scene::Material;
 use ::gltf::mesh::Mode;
 use ::gltf::Gltf;
-use glam::{DMat3, DMat4, DVec3};
+use glam::{DMat3, DMat4, DVec2, DVec3};
 use std::collections::HashMap;
 use std::path::Path;
+use std::rc::Rc;
 
 /// Required extensions that change geometry, which this importer cannot read.
 const GEOMETRY_EXTENSIONS: [&str; 3] =
     ["KHR_draco_mesh_compression", "KHR_mesh_quantization", "EXT_meshopt_compression"];
 
 /// Import a glTF or GLB file.
-pub fn load(path: &Path) -> Result<Mesh, MeshError> {
+pub fn load(path: &Path, opts: &ImportOptions) -> Result<Mesh, MeshError> {
     let bytes =
         std::fs::read(path).map_err(|error| MeshError::Io { path: path.display().to_string(), error })?;
     let raw = Gltf::from_slice_without_validation(&bytes).map_err(|e| {
@@ -54,16 +67,24 @@ pub fn load(path: &Path) -> Result<Mesh, MeshError> {
     let mut warnings = Vec::new();
     let gltf = validated(raw, &bytes, path, &mut warnings)?;
     let base = path.parent();
-    check_buffer_files(&gltf.document, base, path)?;
+    check_buffer_files(&gltf.document, base, path, opts)?;
     let buffers = ::gltf::import_buffers(&gltf.document, base, gltf.blob.clone())
         .map_err(|e| MeshError::invalid(path, format!("cannot load its buffers: {e}")))?;
     let doc = &gltf.document;
     let mut mesh = Mesh { materials: vec![Material::default()], warnings, ..Default::default() };
     mesh.materials.extend(doc.materials().map(convert_material));
-    if doc.materials().any(|m| m.pbr_metallic_roughness().base_color_texture().is_some())
-        || doc.textures().count() > 0
-    {
-        mesh.warnings.push("textures are ignored".into());
+    if !opts.textures && doc.textures().count() > 0 {
+        mesh.warnings.push("textures are ignored (--no-textures)".into());
+    }
+    let mut images = Images {
+        dir: base.unwrap_or(Path::new(".")),
+        buffers: &buffers,
+        opts,
+        decoded: vec![None; doc.textures().count()],
+    };
+    let mut looks = vec![Look::default_material()];
+    for m in doc.materials() {
+        looks.push(Look::of(&m, &mut images, &mut mesh.warnings));
     }
     let roots: Vec<::gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
         Some(scene) => scene.nodes().collect(),
@@ -73,12 +94,26 @@ pub fn load(path: &Path) -> Result<Mesh, MeshError> {
             doc.nodes().filter(|n| !children.contains(&n.index())).collect()
         }
     };
-    let mut state = State { path, buffers: &buffers, skipped_modes: HashMap::new(), degenerate: 0 };
+    let mut state = State {
+        path,
+        buffers: &buffers,
+        looks: &looks,
+        skipped_modes: HashMap::new(),
+        degenerate: 0,
+        orthographic: 0,
+    };
     for node in roots {
         state.walk(&mut mesh, &node, DMat4::IDENTITY, 0)?;
     }
     for (mode, n) in state.skipped_modes {
         mesh.warnings.push(format!("{n} primitives of mode {mode} (points or lines) skipped"));
+    }
+    if state.orthographic > 0 {
+        mesh.warnings.push(format!(
+            "{} orthographic camera{} skipped: NFF views are perspective",
+            state.orthographic,
+            if state.orthographic == 1 { "" } else { "s" }
+        ));
     }
     if state.degenerate > 0 {
         mesh.warnings.push(format!(
@@ -137,14 +172,21 @@ fn validated(raw: Gltf, bytes: &[u8], path: &Path, warnings: &mut Vec<String>) -
     Ok(raw)
 }
 
-/// Every external buffer file exists, or an error naming it.
-fn check_buffer_files(doc: &::gltf::Document, base: Option<&Path>, path: &Path) -> Result<(), MeshError> {
+/// Every external buffer file is inside the model's folder (unless allowed)
+/// and exists, or an error naming it.
+fn check_buffer_files(
+    doc: &::gltf::Document,
+    base: Option<&Path>,
+    path: &Path,
+    opts: &ImportOptions,
+) -> Result<(), MeshError> {
     for b in doc.buffers() {
         if let ::gltf::buffer::Source::Uri(uri) = b.source() {
             if uri.starts_with("data:") {
                 continue;
             }
-            let file = base.unwrap_or(Path::new(".")).join(uri);
+            let file = resolve(base.unwrap_or(Path::new(".")), &super::resource::percent_decode(uri), opts)
+                .map_err(|why| MeshError::invalid(path, format!("buffer {}: {why}", b.index())))?;
             if !file.is_file() {
                 return Err(MeshError::invalid(
                     path,
@@ -160,11 +202,102 @@ fn check_buffer_files(doc: &::gltf::Document, base: Option<&Path>, path: &Path) 
     Ok(())
 }
 
+/// The textures of the document, each decoded once, on first use.
+struct Images<'a> {
+    dir: &'a Path,
+    buffers: &'a [::gltf::buffer::Data],
+    opts: &'a ImportOptions,
+    /// Per texture: not yet tried, or the outcome.
+    decoded: Vec<Option<Option<Rc<Texture>>>>,
+}
+
+impl Images<'_> {
+    /// The texture, or `None` with a warning naming the image.
+    fn get(&mut self, texture: &::gltf::Texture, warnings: &mut Vec<String>) -> Option<Rc<Texture>> {
+        if !self.opts.textures {
+            return None;
+        }
+        if let Some(done) = &self.decoded[texture.index()] {
+            return done.clone();
+        }
+        let image = texture.source();
+        let (name, bytes) = match image.source() {
+            ::gltf::image::Source::View { view, .. } => {
+                let bytes = self.buffers.get(view.buffer().index()).and_then(|b| {
+                    b.0.get(view.offset()..view.offset().checked_add(view.length())?).map(<[u8]>::to_vec)
+                });
+                (format!("image {} (buffer view {})", image.index(), view.index()), bytes.ok_or_else(|| "the buffer view lies outside its buffer".to_string()))
+            }
+            ::gltf::image::Source::Uri { uri, .. } => {
+                let shown = if uri.starts_with("data:") { "a data: URI".to_string() } else { format!("`{uri}`") };
+                (format!("image {} ({shown})", image.index()), read_uri(self.dir, uri, self.opts))
+            }
+        };
+        let decoded = bytes
+            .and_then(|b| Texture::decode(&b))
+            .map(|mut t| {
+                let sampler = texture.sampler();
+                t.wrap = [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())];
+                Rc::new(t)
+            })
+            .map_err(|why| warnings.push(format!("texture {name}: {why}; using the factor alone")))
+            .ok();
+        self.decoded[texture.index()] = Some(decoded.clone());
+        decoded
+    }
+}
+
+fn wrap(mode: ::gltf::texture::WrappingMode) -> Wrap {
+    match mode {
+        ::gltf::texture::WrappingMode::ClampToEdge => Wrap::Clamp,
+        ::gltf::texture::WrappingMode::MirroredRepeat => Wrap::Mirror,
+        ::gltf::texture::WrappingMode::Repeat => Wrap::Repeat,
+    }
+}
+
+/// A texture and the UV set it reads.
+struct Mapped {
+    texture: Rc<Texture>,
+    set: u32,
+}
+
+/// What a material contributes per face.
+struct Look {
+    factor: DVec3,
+    base: Option<Mapped>,
+    emission: Option<DVec3>,
+    emissive: Option<Mapped>,
+}
+
+impl Look {
+    /// glTF's default material: white, not emitting.
+    fn default_material() -> Look {
+        Look { factor: DVec3::ONE, base: None, emission: None, emissive: None }
+    }
+
+    fn of(m: &::gltf::Material, images: &mut Images, warnings: &mut Vec<String>) -> Look {
+        let pbr = m.pbr_metallic_roughness();
+        let [r, g, b, _] = pbr.base_color_factor();
+        let mut mapped = |info: Option<::gltf::texture::Info>| {
+            let info = info?;
+            Some(Mapped { texture: images.get(&info.texture(), warnings)?, set: info.tex_coord() })
+        };
+        let base = mapped(pbr.base_color_texture());
+        let strength = m.emissive_strength().unwrap_or(1.0) as f64;
+        let emission = DVec3::from_array(m.emissive_factor().map(f64::from)) * strength;
+        let emission = (emission.max_element() > 0.0).then_some(emission);
+        let emissive = if emission.is_some() { mapped(m.emissive_texture()) } else { None };
+        Look { factor: DVec3::new(r as f64, g as f64, b as f64), base, emission, emissive }
+    }
+}
+
 struct State<'a> {
     path: &'a Path,
     buffers: &'a [::gltf::buffer::Data],
+    looks: &'a [Look],
     skipped_modes: HashMap<&'static str, usize>,
     degenerate: usize,
+    orthographic: usize,
 }
 
 impl State<'_> {
@@ -180,6 +313,14 @@ impl State<'_> {
         }
         let local = node.transform().matrix().map(|c| c.map(f64::from));
         let world = parent * DMat4::from_cols_array_2d(&local);
+        if let Some(camera) = node.camera() {
+            match camera.projection() {
+                ::gltf::camera::Projection::Perspective(p) => {
+                    mesh.cameras.push(world_camera(&world, &p, camera.name()));
+                }
+                ::gltf::camera::Projection::Orthographic(_) => self.orthographic += 1,
+            }
+        }
         if let Some(m) = node.mesh() {
             for prim in m.primitives() {
                 self.primitive(mesh, &prim, &world)?;
@@ -261,6 +402,25 @@ impl State<'_> {
         }
         let mirrored = DMat3::from_mat4(*world).determinant() < 0.0;
         let material = prim.material().index().map_or(0, |i| i as u32 + 1);
+        let look = self.looks.get(material as usize).unwrap_or(&self.looks[0]);
+        let uv_set = |m: &Option<Mapped>| -> Option<(Rc<Texture>, Vec<DVec2>)> {
+            let m = m.as_ref()?;
+            let uvs: Vec<DVec2> = reader
+                .read_tex_coords(m.set)?
+                .into_f32()
+                .map(|[u, v]| DVec2::new(u as f64, v as f64))
+                .collect();
+            (uvs.len() == count as usize).then(|| (m.texture.clone(), uvs))
+        };
+        let base_map = uv_set(&look.base);
+        let emissive_map = uv_set(&look.emissive);
+        let colors: Option<Vec<DVec3>> = reader
+            .read_colors(0)
+            .map(|c| c.into_rgb_f32().map(|c| DVec3::from_array(c.map(f64::from))).collect())
+            .filter(|c: &Vec<DVec3>| c.len() == count as usize);
+        let face_mean = |map: &Option<(Rc<Texture>, Vec<DVec2>)>, t: [u32; 3]| {
+            map.as_ref().map(|(tex, uvs)| tex.mean_over_triangle(t.map(|i| uvs[i as usize])))
+        };
         for mut t in triangles(mode, &indices) {
             if mirrored {
                 t.swap(1, 2);
@@ -279,9 +439,37 @@ impl State<'_> {
                 let normal = normals.as_ref().and_then(|n| n.get(i as usize).copied());
                 mesh.corners.push(Corner { position: base + i, normal });
             }
-            mesh.faces.push(Face { first, count: 3, material });
+            let mut face = Face::plain(first, 3, material);
+            let textured = face_mean(&base_map, t);
+            let vertex = colors.as_ref().map(|c| t.iter().map(|&i| c[i as usize]).sum::<DVec3>() / 3.0);
+            if textured.is_some() || vertex.is_some() {
+                let c = look.factor * textured.unwrap_or(DVec3::ONE) * vertex.unwrap_or(DVec3::ONE);
+                face.color = Some(c.as_vec3().to_array());
+            }
+            face.emission = look.emission.map(|e| {
+                (e * face_mean(&emissive_map, t).unwrap_or(DVec3::ONE)).as_vec3().to_array()
+            });
+            face.emission = face.emission.filter(|e| e.iter().any(|&c| c > 0.0));
+            mesh.faces.push(face);
         }
         Ok(())
+    }
+}
+
+/// A perspective camera placed by its node's world transform: glTF cameras
+/// look down their local −Z with +Y up.
+fn world_camera(world: &DMat4, p: &::gltf::camera::Perspective, name: Option<&str>) -> MeshCamera {
+    let direction = world.transform_vector3(-DVec3::Z).normalize_or_zero();
+    let up = world.transform_vector3(DVec3::Y);
+    let up = (up - direction * up.dot(direction)).normalize_or_zero();
+    MeshCamera {
+        name: name.map(str::to_string),
+        from: world.transform_point3(DVec3::ZERO),
+        direction,
+        up,
+        yfov: p.yfov() as f64,
+        aspect: p.aspect_ratio().map(f64::from),
+        znear: p.znear() as f64,
     }
 }
 

@@ -1,9 +1,15 @@
 //! Meshes imported from OBJ ([`obj`]) and glTF 2.0 ([`gltf`]): polygons in
 //! world space with optional per-corner normals and NFF materials, in a
-//! compact layout (a million triangles is a few tens of megabytes).
+//! compact layout (a million triangles is a few tens of megabytes), plus
+//! what the file says about each face's look (texture and vertex colours
+//! averaged per face, [`texture`]; emission) and its cameras.
 
 pub mod gltf;
 pub mod obj;
+pub mod resource;
+pub mod texture;
+
+pub use resource::ImportOptions;
 
 use crate::scene::Material;
 use glam::DVec3;
@@ -28,6 +34,37 @@ pub struct Face {
     pub count: u32,
     /// Index into [`Mesh::materials`].
     pub material: u32,
+    /// The face's own colour, replacing its material's: the base colour
+    /// times the texture and vertex colours averaged over the face.
+    pub color: Option<[f32; 3]>,
+    /// The light the face emits (linear RGB, unbounded); `None` when dark.
+    pub emission: Option<[f32; 3]>,
+}
+
+impl Face {
+    /// A face in its material's colour, emitting nothing.
+    pub fn plain(first: u32, count: u32, material: u32) -> Face {
+        Face { first, count, material, color: None, emission: None }
+    }
+}
+
+/// A perspective camera of the file, in world space.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshCamera {
+    /// The camera's name in the file, if any.
+    pub name: Option<String>,
+    /// Eye position.
+    pub from: DVec3,
+    /// Viewing direction (unit).
+    pub direction: DVec3,
+    /// Up direction (unit, perpendicular to `direction`).
+    pub up: DVec3,
+    /// Vertical field of view between the image's top and bottom edges, radians.
+    pub yfov: f64,
+    /// Width over height, when the file fixes it.
+    pub aspect: Option<f64>,
+    /// Near clipping distance.
+    pub znear: f64,
 }
 
 /// An imported mesh.
@@ -41,6 +78,8 @@ pub struct Mesh {
     pub faces: Vec<Face>,
     /// Materials; faces without one use index 0, the default.
     pub materials: Vec<Material>,
+    /// The perspective cameras of the file's scene, in the order met.
+    pub cameras: Vec<MeshCamera>,
     /// Things that were dropped or approximated, for the user.
     pub warnings: Vec<String>,
 }
@@ -79,12 +118,17 @@ impl MeshError {
     }
 }
 
-/// Import by extension: `.obj`, `.gltf` or `.glb`.
+/// Import by extension: `.obj`, `.gltf` or `.glb`, with the default options.
 pub fn load(path: &Path) -> Result<Mesh, MeshError> {
+    load_with(path, &ImportOptions::default())
+}
+
+/// Import by extension: `.obj`, `.gltf` or `.glb`.
+pub fn load_with(path: &Path, opts: &ImportOptions) -> Result<Mesh, MeshError> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     let mesh = match ext.as_deref() {
-        Some("obj") => obj::load(path)?,
-        Some("gltf") | Some("glb") => gltf::load(path)?,
+        Some("obj") => obj::load(path, opts)?,
+        Some("gltf") | Some("glb") => gltf::load(path, opts)?,
         _ => {
             return Err(MeshError::invalid(
                 path,
@@ -97,8 +141,13 @@ pub fn load(path: &Path) -> Result<Mesh, MeshError> {
 
 /// Import OBJ text from elsewhere (standard input): `name` is how messages
 /// call it, `dir` where material libraries are looked for.
-pub fn load_obj_bytes(bytes: &[u8], name: &Path, dir: &Path) -> Result<Mesh, MeshError> {
-    validate(name, obj::load_bytes(bytes, name, dir)?)
+pub fn load_obj_bytes(
+    bytes: &[u8],
+    name: &Path,
+    dir: &Path,
+    opts: &ImportOptions,
+) -> Result<Mesh, MeshError> {
+    validate(name, obj::load_bytes(bytes, name, dir, opts)?)
 }
 
 /// What every importer's mesh must satisfy: finite positions, some faces.

@@ -4,12 +4,23 @@
 //! NFF Kd = max(Kd), Ks = max(Ks), Shine = Ns, T = 1 − d (or `Tr`), index of
 //! refraction = Ni. A missing or broken `.mtl` is a warning and the default
 //! material.
+//!
+//! Per face: the diffuse texture (`map_Kd`, v pointing up as OBJ has it)
+//! averaged over the face times that colour, and vertex colours
+//! (`v x y z r g b`) averaged over the face's corners that carry one (so a
+//! file where only some vertices are coloured keeps the material colour on
+//! faces without any); emission is `Ke` times `map_Ke`'s mean. A texture
+//! that is missing, undecodable or outside the model's folder is a warning
+//! naming it, and the colour alone is used.
 
+use super::resource::{resolve, ImportOptions};
+use super::texture::Texture;
 use super::{Corner, Face, Mesh, MeshError};
 use crate::scene::Material;
-use glam::DVec3;
+use glam::{DVec2, DVec3};
+use std::collections::HashMap;
 use std::io::BufReader;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 fn options() -> tobj::LoadOptions {
     tobj::LoadOptions { single_index: false, triangulate: false, ignore_points: true, ignore_lines: true }
@@ -35,12 +46,23 @@ fn strip_face_attributes(text: &str) -> String {
     out
 }
 
+/// Vertex colours by position (the bits of x, y, z as tobj reads them), so
+/// that they survive tobj's renumbering of each object's vertices.
+type VertexColors = HashMap<[u64; 3], DVec3>;
+
+/// A `v x y z r g b` line's position and colour.
+fn colored_vertex(words: &[&str]) -> Option<([u64; 3], DVec3)> {
+    let n: Vec<f64> = words.iter().map(|w| w.parse().ok()).collect::<Option<_>>()?;
+    (n.len() == 6).then(|| ([n[0].to_bits(), n[1].to_bits(), n[2].to_bits()], DVec3::new(n[3], n[4], n[5])))
+}
+
 /// Drop lines tobj refuses although exporters write them (`usemtl` with no
 /// name, from Blender), with a warning each, and the `l` (polyline) and `p`
 /// (point) elements, which tobj would read as faces and NFF cannot show,
-/// with one warning counting them. Lines stay in place (as blanks) so line
-/// numbers in later messages are the file's.
-fn sanitize(text: &str, warnings: &mut Vec<String>) -> String {
+/// with one warning counting them. Vertex colours are taken out into
+/// `colors` (tobj misnumbers them when only some vertices have one). Lines
+/// stay in place (as blanks) so line numbers in later messages are the file's.
+fn sanitize(text: &str, warnings: &mut Vec<String>, colors: &mut VertexColors) -> String {
     let mut out = String::with_capacity(text.len());
     let (mut lines, mut points) = (0, 0);
     for (i, line) in text.lines().enumerate() {
@@ -51,6 +73,16 @@ fn sanitize(text: &str, warnings: &mut Vec<String>) -> String {
             }
             Some("l") => lines += 1,
             Some("p") => points += 1,
+            Some("v") => {
+                let rest: Vec<&str> = words.collect();
+                match colored_vertex(&rest) {
+                    Some((key, color)) => {
+                        colors.entry(key).or_insert(color);
+                        out.push_str(&format!("v {} {} {}", rest[0], rest[1], rest[2]));
+                    }
+                    None => out.push_str(line),
+                }
+            }
             _ => out.push_str(line),
         }
         out.push('\n');
@@ -115,16 +147,16 @@ fn locate(text: &str, e: &tobj::LoadError) -> Option<String> {
 }
 
 /// Import an OBJ file.
-pub fn load(path: &Path) -> Result<Mesh, MeshError> {
+pub fn load(path: &Path, opts: &ImportOptions) -> Result<Mesh, MeshError> {
     let bytes =
         std::fs::read(path).map_err(|error| MeshError::Io { path: path.display().to_string(), error })?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    load_bytes(&bytes, path, &dir)
+    load_bytes(&bytes, path, &dir, opts)
 }
 
 /// Import OBJ text read elsewhere (standard input): `name` is how messages
 /// call it, `dir` where its material libraries are looked for.
-pub fn load_bytes(bytes: &[u8], name: &Path, dir: &Path) -> Result<Mesh, MeshError> {
+pub fn load_bytes(bytes: &[u8], name: &Path, dir: &Path, opts: &ImportOptions) -> Result<Mesh, MeshError> {
     let path = name;
     if bytes.starts_with(&[0xFE, 0xFF]) || bytes.starts_with(&[0xFF, 0xFE]) {
         return Err(MeshError::invalid(
@@ -133,15 +165,25 @@ pub fn load_bytes(bytes: &[u8], name: &Path, dir: &Path) -> Result<Mesh, MeshErr
         ));
     }
     let mut warnings = Vec::new();
-    let text = sanitize(&String::from_utf8_lossy(bytes), &mut warnings);
+    let mut colors = VertexColors::new();
+    let text = sanitize(&String::from_utf8_lossy(bytes), &mut warnings, &mut colors);
     let mtl_warning = std::cell::RefCell::new(Vec::<String>::new());
+    // Textures are named relative to their library's folder.
+    let mtl_dir = std::cell::RefCell::new(dir.to_path_buf());
     let loader = |p: &Path| {
-        let full = dir.join(p);
+        let full = match resolve(dir, &p.to_string_lossy(), opts) {
+            Ok(full) => full,
+            Err(why) => {
+                mtl_warning.borrow_mut().push(format!("material library {why}; using the default material"));
+                return Err(tobj::LoadError::OpenFileFailed);
+            }
+        };
         let r = tobj::load_mtl(&full);
-        if let Err(e) = &r {
-            mtl_warning
+        match &r {
+            Ok(_) => *mtl_dir.borrow_mut() = full.parent().map(Path::to_path_buf).unwrap_or_default(),
+            Err(e) => mtl_warning
                 .borrow_mut()
-                .push(format!("material library {}: {e}; using the default material", full.display()));
+                .push(format!("material library {}: {e}; using the default material", full.display())),
         }
         r
     };
@@ -161,13 +203,78 @@ pub fn load_bytes(bytes: &[u8], name: &Path, dir: &Path) -> Result<Mesh, MeshErr
     let materials = materials.unwrap_or_default();
     let mut mesh = Mesh { materials: vec![Material::default()], warnings, ..Default::default() };
     mesh.materials.extend(materials.iter().map(convert_material));
-    if materials.iter().any(|m| m.diffuse_texture.is_some()) {
-        mesh.warnings.push("textures are ignored".into());
+    let mut textures = Textures { dir: mtl_dir.into_inner(), opts, cache: HashMap::new() };
+    let plain = Look { color: Material::default().color, ..Look::default() };
+    let looks: Vec<Look> = std::iter::once(plain)
+        .chain(materials.iter().map(|m| Look::of(m, &mut textures, &mut mesh.warnings)))
+        .collect();
+    if !opts.textures && materials.iter().any(|m| m.diffuse_texture.is_some() || m.unknown_param.contains_key("map_Ke")) {
+        mesh.warnings.push("textures are ignored (--no-textures)".into());
     }
     for model in &models {
-        add_model(&mut mesh, &model.mesh, &model.name);
+        add_model(&mut mesh, &model.mesh, &model.name, &looks, &colors);
     }
     Ok(mesh)
+}
+
+/// Textures named by the material library, each read once.
+struct Textures<'a> {
+    dir: PathBuf,
+    opts: &'a ImportOptions,
+    cache: HashMap<String, Option<std::rc::Rc<Texture>>>,
+}
+
+impl Textures<'_> {
+    /// The texture a `map_*` statement names (options such as `-s 1 1 1`
+    /// before the file name are skipped), or `None` with a warning.
+    fn get(&mut self, statement: &str, warnings: &mut Vec<String>) -> Option<std::rc::Rc<Texture>> {
+        if !self.opts.textures {
+            return None;
+        }
+        let statement = statement.trim();
+        let name = if statement.starts_with('-') {
+            statement.split_whitespace().last().unwrap_or(statement)
+        } else {
+            statement
+        };
+        if let Some(t) = self.cache.get(name) {
+            return t.clone();
+        }
+        let loaded = resolve(&self.dir, name, self.opts)
+            .and_then(|p| {
+                let bytes = std::fs::read(&p).map_err(|e| format!("{}: {e}", p.display()))?;
+                Texture::decode(&bytes).map_err(|e| format!("{}: {e}", p.display()))
+            })
+            .map_err(|why| warnings.push(format!("texture {why}; using the material colour alone")))
+            .ok()
+            .map(std::rc::Rc::new);
+        self.cache.insert(name.to_string(), loaded.clone());
+        loaded
+    }
+}
+
+/// What a material adds per face: textures and emission.
+#[derive(Default)]
+struct Look {
+    diffuse: Option<std::rc::Rc<Texture>>,
+    emission: Option<DVec3>,
+    emission_texture: Option<std::rc::Rc<Texture>>,
+    /// The material's NFF colour (Kd normalised), which textures multiply.
+    color: DVec3,
+}
+
+impl Look {
+    fn of(m: &tobj::Material, textures: &mut Textures, warnings: &mut Vec<String>) -> Look {
+        let emission = m.emissive.map(DVec3::from_array).filter(|e| e.max_element() > 0.0);
+        Look {
+            diffuse: m.diffuse_texture.as_deref().and_then(|t| textures.get(t, warnings)),
+            emission_texture: emission
+                .and(m.unknown_param.get("map_Ke"))
+                .and_then(|t| textures.get(t, warnings)),
+            emission,
+            color: convert_material(m).color,
+        }
+    }
 }
 
 fn describe(text: &str, e: tobj::LoadError) -> String {
@@ -180,7 +287,7 @@ fn describe(text: &str, e: tobj::LoadError) -> String {
     }
 }
 
-fn add_model(mesh: &mut Mesh, m: &tobj::Mesh, name: &str) {
+fn add_model(mesh: &mut Mesh, m: &tobj::Mesh, name: &str, looks: &[Look], colors: &VertexColors) {
     let base = mesh.positions.len() as u32;
     mesh.positions.extend(m.positions.chunks_exact(3).map(|p| DVec3::new(p[0], p[1], p[2])));
     let has_normals = !m.normal_indices.is_empty() && m.normal_indices.len() == m.indices.len();
@@ -189,6 +296,17 @@ fn add_model(mesh: &mut Mesh, m: &tobj::Mesh, name: &str) {
     }
     let material = m.material_id.map_or(0, |i| i as u32 + 1);
     let material = if (material as usize) < mesh.materials.len() { material } else { 0 };
+    let look = &looks[material as usize];
+    let has_uvs = m.texcoord_indices.len() == m.indices.len() && !m.texcoords.is_empty();
+    // OBJ's v runs up the image; the texture's rows run down.
+    let uv = |j: usize| {
+        let i = m.texcoord_indices[j] as usize * 2;
+        DVec2::new(m.texcoords[i], 1.0 - m.texcoords[i + 1])
+    };
+    let color_of = |j: usize| {
+        let p = &m.positions[m.indices[j] as usize * 3..][..3];
+        colors.get(&[p[0].to_bits(), p[1].to_bits(), p[2].to_bits()]).copied()
+    };
     // face_arities is empty when every face is a triangle.
     let arities: Box<dyn Iterator<Item = u32>> = if m.face_arities.is_empty() {
         Box::new(std::iter::repeat_n(3, m.indices.len() / 3))
@@ -205,10 +323,32 @@ fn add_model(mesh: &mut Mesh, m: &tobj::Mesh, name: &str) {
             });
             mesh.corners.push(Corner { position: base + m.indices[j], normal });
         }
+        let range = k..k + n as usize;
         k += n as usize;
-        if n >= 3 {
-            mesh.faces.push(Face { first, count: n, material });
+        if n < 3 {
+            continue;
         }
+        let mut face = Face::plain(first, n, material);
+        let uvs: Vec<DVec2> = if has_uvs { range.clone().map(uv).collect() } else { Vec::new() };
+        let mut color = None;
+        if let (Some(t), true) = (&look.diffuse, has_uvs) {
+            color = Some(look.color * t.mean_over_face(&uvs));
+        }
+        let vertex: Vec<DVec3> = range.clone().filter_map(color_of).collect();
+        if !vertex.is_empty() {
+            let mean = vertex.iter().sum::<DVec3>() / vertex.len() as f64;
+            color = Some(color.unwrap_or(look.color) * mean);
+        }
+        face.color = color.map(|c| c.as_vec3().to_array());
+        face.emission = look.emission.map(|e| {
+            let tex = match (&look.emission_texture, has_uvs) {
+                (Some(t), true) => t.mean_over_face(&uvs),
+                _ => DVec3::ONE,
+            };
+            (e * tex).as_vec3().to_array()
+        });
+        face.emission = face.emission.filter(|e| e.iter().any(|&c| c > 0.0));
+        mesh.faces.push(face);
     }
 }
 

@@ -3,7 +3,8 @@
 use anyhow::{Context, Result};
 use clap::{Parser, ValueEnum};
 use nffkit_tools::cli_util;
-use nffkit_tools::mesh2nff::{write, Options, Up};
+use nffkit_formats::mesh::ImportOptions;
+use nffkit_tools::mesh2nff::{write, Lights, Options, Up};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -14,6 +15,15 @@ use std::process::ExitCode;
 /// lines, and (unless --no-view) a view, lights and background framing the
 /// model. Coordinates stay the source's world coordinates unless --center,
 /// --fit or --scale is given.
+///
+/// Looks: textures (glTF base colour, OBJ map_Kd) and vertex colours are
+/// averaged per face into `f` colours; emitting faces (glTF emissive, OBJ Ke)
+/// become up to 64 point lights and show their colour. glTF materials map as
+/// documented in the README (rough → diffuse, smooth metal → mirror).
+///
+/// View: the model's glTF camera (--camera N, or the only one), else a
+/// framing view; when the model lights itself, the framing direction that
+/// shows its lit side. Lights: see --lights.
 #[derive(Parser, Debug)]
 #[command(name = "mesh2nff", version)]
 struct Args {
@@ -26,9 +36,27 @@ struct Args {
     /// Geometry and materials only, for appending to another scene.
     #[arg(long)]
     no_view: bool,
-    /// Image size of the view, W,H.
-    #[arg(long, value_parser = cli_util::parse_resolution, default_value = "512,512")]
-    resolution: [u32; 2],
+    /// Image size of the view, W,H [default: 512,512, or 512 wide at a glTF
+    /// camera's aspect ratio].
+    #[arg(long, value_parser = cli_util::parse_resolution)]
+    resolution: Option<[u32; 2]>,
+    /// Lights added to the model's emission: `auto` frames the model with
+    /// two lights when nothing emits, and adds one at the eye when the eye
+    /// is inside the model's box or test renders find what it sees unlit;
+    /// `eye` puts one light at the eye; `none` adds nothing.
+    #[arg(long, value_enum, default_value_t = LightsArg::Auto)]
+    lights: LightsArg,
+    /// Use the model's N-th perspective camera (glTF, numbered from 0 in
+    /// scene order) for the view.
+    #[arg(long, value_name = "N")]
+    camera: Option<usize>,
+    /// Ignore textures: faces take their material's colour.
+    #[arg(long)]
+    no_textures: bool,
+    /// Read buffers, images and material libraries that lie outside the
+    /// model's folder (absolute paths, `..`); refused by default.
+    #[arg(long)]
+    allow_outside_paths: bool,
     /// The source's up axis (only the view uses it).
     #[arg(long, value_enum, default_value_t = UpArg::Y)]
     up: UpArg,
@@ -54,6 +82,13 @@ struct Args {
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
+enum LightsArg {
+    Auto,
+    Eye,
+    None,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
 enum UpArg {
     Y,
     Z,
@@ -73,6 +108,7 @@ fn run(a: &Args) -> Result<()> {
             anyhow::bail!("-o {} is the input model; refusing to overwrite it", out.display());
         }
     }
+    let import = ImportOptions { textures: !a.no_textures, allow_outside_paths: a.allow_outside_paths };
     let mesh = if a.model.as_os_str() == "-" {
         let mut bytes = Vec::new();
         std::io::Read::read_to_end(&mut std::io::stdin(), &mut bytes).context("reading standard input")?;
@@ -80,9 +116,10 @@ fn run(a: &Args) -> Result<()> {
             &bytes,
             std::path::Path::new("<stdin>"),
             std::path::Path::new("."),
+            &import,
         )
     } else {
-        nffkit_formats::mesh::load(&a.model)
+        nffkit_formats::mesh::load_with(&a.model, &import)
     }
     .context("cannot convert")?;
     if !a.quiet {
@@ -99,6 +136,12 @@ fn run(a: &Args) -> Result<()> {
         fit: a.fit,
         flat: a.flat,
         smooth: a.smooth,
+        lights: match a.lights {
+            LightsArg::Auto => Lights::Auto,
+            LightsArg::Eye => Lights::Eye,
+            LightsArg::None => Lights::None,
+        },
+        camera: a.camera,
     };
     nffkit_tools::mesh2nff::check(&mesh).with_context(|| format!("cannot convert {name}"))?;
     let mut summary = None;
@@ -108,9 +151,12 @@ fn run(a: &Args) -> Result<()> {
         Ok(())
     })?;
     if let (false, Some(s)) = (a.quiet, summary) {
+        for note in &s.notes {
+            eprintln!("mesh2nff: {note}");
+        }
         eprintln!(
-            "mesh2nff: {} polygons, {} patches ({} faces triangulated, {} degenerate dropped)",
-            s.polygons, s.patches, s.triangulated, s.degenerate
+            "mesh2nff: {} polygons, {} patches, {} materials ({} faces triangulated, {} degenerate dropped)",
+            s.polygons, s.patches, s.materials, s.triangulated, s.degenerate
         );
     }
     Ok(())

@@ -1,0 +1,111 @@
+//! Files a model refers to (glTF buffers and images, OBJ material libraries
+//! and textures), and the rule for which ones may be read.
+//!
+//! A model downloaded from elsewhere must not make the converter read files
+//! outside the model's folder: an absolute path, a scheme (`file:`), a drive
+//! letter or a `..` component is refused unless the user allows it
+//! ([`ImportOptions::allow_outside_paths`]).
+
+use base64::Engine;
+use std::path::{Path, PathBuf};
+
+/// What an import may read beyond the model file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ImportOptions {
+    /// Read base-colour and emission textures (off: the factors alone).
+    pub textures: bool,
+    /// Follow references that leave the model's folder.
+    pub allow_outside_paths: bool,
+}
+
+impl Default for ImportOptions {
+    fn default() -> Self {
+        ImportOptions { textures: true, allow_outside_paths: false }
+    }
+}
+
+/// Whether a relative reference stays inside its folder.
+fn stays_inside(reference: &str) -> bool {
+    let first = reference.split(['/', '\\']).next().unwrap_or("");
+    !(reference.starts_with(['/', '\\'])
+        || first.contains(':')
+        || Path::new(reference).is_absolute()
+        || reference.split(['/', '\\']).any(|c| c == ".."))
+}
+
+/// `reference` (a plain path) resolved against `dir`, or why it may not be read.
+pub fn resolve(dir: &Path, reference: &str, opts: &ImportOptions) -> Result<PathBuf, String> {
+    if !opts.allow_outside_paths && !stays_inside(reference) {
+        return Err(format!(
+            "`{reference}` leaves the model's folder; not read (--allow-outside-paths allows it)"
+        ));
+    }
+    Ok(dir.join(reference))
+}
+
+/// A URI's percent escapes decoded (`my%20file.png` → `my file.png`).
+pub fn percent_decode(uri: &str) -> String {
+    let b = uri.as_bytes();
+    let mut out = Vec::with_capacity(b.len());
+    let mut i = 0;
+    while i < b.len() {
+        let hex = |c: u8| (c as char).to_digit(16);
+        if b[i] == b'%' && i + 2 < b.len() {
+            if let (Some(h), Some(l)) = (hex(b[i + 1]), hex(b[i + 2])) {
+                out.push((h * 16 + l) as u8);
+                i += 3;
+                continue;
+            }
+        }
+        out.push(b[i]);
+        i += 1;
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+/// The bytes a glTF URI names: a `data:` URI's payload, else the file it
+/// names relative to `dir` (under the folder rule).
+pub fn read_uri(dir: &Path, uri: &str, opts: &ImportOptions) -> Result<Vec<u8>, String> {
+    if let Some(data) = uri.strip_prefix("data:") {
+        let (meta, payload) = data.split_once(',').ok_or("a data: URI without a comma")?;
+        return if meta.ends_with(";base64") {
+            base64::engine::general_purpose::STANDARD
+                .decode(payload.trim())
+                .map_err(|e| format!("a data: URI that is not valid base64: {e}"))
+        } else {
+            Ok(percent_decode(payload).into_bytes())
+        };
+    }
+    let path = resolve(dir, &percent_decode(uri), opts)?;
+    std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn references_leaving_the_folder_are_refused_unless_allowed() {
+        let strict = ImportOptions::default();
+        let dir = Path::new("models");
+        for bad in ["/etc/passwd", "../secret.png", "a/../../b.png", "C:\\x.png", "file:///etc/x", "\\\\host\\x"]
+        {
+            let e = resolve(dir, bad, &strict).unwrap_err();
+            assert!(e.contains("leaves the model's folder") && e.contains("--allow-outside-paths"), "{bad}: {e}");
+        }
+        assert_eq!(resolve(dir, "tex/a.png", &strict).unwrap(), dir.join("tex/a.png"));
+        let open = ImportOptions { allow_outside_paths: true, ..strict };
+        assert_eq!(resolve(dir, "../b.png", &open).unwrap(), dir.join("../b.png"));
+    }
+
+    #[test]
+    fn uris_are_percent_decoded_and_data_uris_read() {
+        assert_eq!(percent_decode("my%20file%2Epng"), "my file.png");
+        assert_eq!(percent_decode("100%"), "100%");
+        let opts = ImportOptions::default();
+        assert_eq!(read_uri(Path::new("."), "data:application/octet-stream;base64,AAEC", &opts).unwrap(), [0, 1, 2]);
+        assert!(read_uri(Path::new("."), "data:;base64,@@@", &opts).is_err());
+        let e = read_uri(Path::new("."), "%2E%2E/x.bin", &opts).unwrap_err();
+        assert!(e.contains("leaves"), "escaped .. is still refused: {e}");
+    }
+}
