@@ -327,7 +327,8 @@ fn brightest_framing(
     summary: &mut Summary,
 ) -> (View, Vec<Light>) {
     let candidates = view::candidate_directions(o.up);
-    let score = |probe: &mut probe::Probe, d: DVec3| probe.look(&view::framing(b, o, d).0, emission).brightness;
+    let score =
+        |probe: &mut probe::Probe, d: DVec3| probe.look(&view::framing(b, o, d).0, emission).brightness;
     let default = score(probe, candidates[0]);
     let (mut best, mut best_score) = (candidates[0], default);
     for &d in &candidates[1..] {

@@ -226,10 +226,14 @@ impl Images<'_> {
                 let bytes = self.buffers.get(view.buffer().index()).and_then(|b| {
                     b.0.get(view.offset()..view.offset().checked_add(view.length())?).map(<[u8]>::to_vec)
                 });
-                (format!("image {} (buffer view {})", image.index(), view.index()), bytes.ok_or_else(|| "the buffer view lies outside its buffer".to_string()))
+                (
+                    format!("image {} (buffer view {})", image.index(), view.index()),
+                    bytes.ok_or_else(|| "the buffer view lies outside its buffer".to_string()),
+                )
             }
             ::gltf::image::Source::Uri { uri, .. } => {
-                let shown = if uri.starts_with("data:") { "a data: URI".to_string() } else { format!("`{uri}`") };
+                let shown =
+                    if uri.starts_with("data:") { "a data: URI".to_string() } else { format!("`{uri}`") };
                 (format!("image {} ({shown})", image.index()), read_uri(self.dir, uri, self.opts))
             }
         };
@@ -446,9 +450,9 @@ impl State<'_> {
                 let c = look.factor * textured.unwrap_or(DVec3::ONE) * vertex.unwrap_or(DVec3::ONE);
                 face.color = Some(c.as_vec3().to_array());
             }
-            face.emission = look.emission.map(|e| {
-                (e * face_mean(&emissive_map, t).unwrap_or(DVec3::ONE)).as_vec3().to_array()
-            });
+            face.emission = look
+                .emission
+                .map(|e| (e * face_mean(&emissive_map, t).unwrap_or(DVec3::ONE)).as_vec3().to_array());
             face.emission = face.emission.filter(|e| e.iter().any(|&c| c > 0.0));
             mesh.faces.push(face);
         }

@@ -208,7 +208,9 @@ pub fn load_bytes(bytes: &[u8], name: &Path, dir: &Path, opts: &ImportOptions) -
     let looks: Vec<Look> = std::iter::once(plain)
         .chain(materials.iter().map(|m| Look::of(m, &mut textures, &mut mesh.warnings)))
         .collect();
-    if !opts.textures && materials.iter().any(|m| m.diffuse_texture.is_some() || m.unknown_param.contains_key("map_Ke")) {
+    if !opts.textures
+        && materials.iter().any(|m| m.diffuse_texture.is_some() || m.unknown_param.contains_key("map_Ke"))
+    {
         mesh.warnings.push("textures are ignored (--no-textures)".into());
     }
     for model in &models {

@@ -88,10 +88,14 @@ mod tests {
     fn references_leaving_the_folder_are_refused_unless_allowed() {
         let strict = ImportOptions::default();
         let dir = Path::new("models");
-        for bad in ["/etc/passwd", "../secret.png", "a/../../b.png", "C:\\x.png", "file:///etc/x", "\\\\host\\x"]
+        for bad in
+            ["/etc/passwd", "../secret.png", "a/../../b.png", "C:\\x.png", "file:///etc/x", "\\\\host\\x"]
         {
             let e = resolve(dir, bad, &strict).unwrap_err();
-            assert!(e.contains("leaves the model's folder") && e.contains("--allow-outside-paths"), "{bad}: {e}");
+            assert!(
+                e.contains("leaves the model's folder") && e.contains("--allow-outside-paths"),
+                "{bad}: {e}"
+            );
         }
         assert_eq!(resolve(dir, "tex/a.png", &strict).unwrap(), dir.join("tex/a.png"));
         let open = ImportOptions { allow_outside_paths: true, ..strict };
@@ -103,7 +107,10 @@ mod tests {
         assert_eq!(percent_decode("my%20file%2Epng"), "my file.png");
         assert_eq!(percent_decode("100%"), "100%");
         let opts = ImportOptions::default();
-        assert_eq!(read_uri(Path::new("."), "data:application/octet-stream;base64,AAEC", &opts).unwrap(), [0, 1, 2]);
+        assert_eq!(
+            read_uri(Path::new("."), "data:application/octet-stream;base64,AAEC", &opts).unwrap(),
+            [0, 1, 2]
+        );
         assert!(read_uri(Path::new("."), "data:;base64,@@@", &opts).is_err());
         let e = read_uri(Path::new("."), "%2E%2E/x.bin", &opts).unwrap_err();
         assert!(e.contains("leaves"), "escaped .. is still refused: {e}");

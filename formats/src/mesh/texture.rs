@@ -3,9 +3,10 @@
 //! NFF has no textures, so a texture becomes one colour per face: the mean
 //! of the texels the face covers in UV space, estimated from the nearest
 //! texel at the centroids of a regular subdivision of the face's UV
-//! triangle (n² sub-triangles, n growing with the triangle's size in texels,
-//! up to 16, so a face over a few texels is read texel by texel and a face
-//! over the whole image by 256 samples).
+//! triangle: n² sub-triangles, n = 8·sqrt(texels covered) between 2 and 16,
+//! so a face over one texel is read at 64 points (its share of each
+//! neighbouring texel within a few percent) and a face over the whole image
+//! at 256.
 //!
 //! Texel values are kept as the file stores them (sRGB-encoded for 8-bit
 //! images), not linearised: nffkit writes pixel values without a transfer
@@ -137,7 +138,7 @@ impl Texture {
         let scale = DVec2::new(self.width as f64, self.height as f64);
         let (e1, e2) = ((uv[1] - uv[0]) * scale, (uv[2] - uv[0]) * scale);
         let texels = (e1.perp_dot(e2) * 0.5).abs();
-        let n = if texels.is_finite() { texels.sqrt().ceil().clamp(1.0, 16.0) as u32 } else { 1 };
+        let n = if texels.is_finite() { (8.0 * texels.sqrt()).ceil().clamp(2.0, 16.0) as u32 } else { 2 };
         let at = |a: f64, b: f64| uv[0] + (uv[1] - uv[0]) * a + (uv[2] - uv[0]) * b;
         let mut sum = DVec3::ZERO;
         let mut count = 0u32;

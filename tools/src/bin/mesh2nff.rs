@@ -2,8 +2,8 @@
 
 use anyhow::{Context, Result};
 use clap::{Parser, ValueEnum};
-use nffkit_tools::cli_util;
 use nffkit_formats::mesh::ImportOptions;
+use nffkit_tools::cli_util;
 use nffkit_tools::mesh2nff::{write, Lights, Options, Up};
 use std::path::PathBuf;
 use std::process::ExitCode;

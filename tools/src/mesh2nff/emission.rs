@@ -70,7 +70,7 @@ fn emitters(mesh: &Mesh, pos: &[DVec3], mirrored: bool, bounds: (DVec3, DVec3)) 
         }
         let n = newell_normal(&verts);
         let area = n.length() * 0.5;
-        if !(area > 0.0) {
+        if area.is_nan() || area <= 0.0 {
             continue;
         }
         let mut n = n.normalize();
@@ -120,9 +120,9 @@ fn merge(emitters: Vec<Emitter>, max: usize) -> Vec<Emitter> {
     if emitters.len() <= max {
         return emitters;
     }
-    let (lo, hi) = emitters.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), e| {
-        (lo.min(e.position), hi.max(e.position))
-    });
+    let (lo, hi) = emitters
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), e| (lo.min(e.position), hi.max(e.position)));
     let extent = (hi - lo).max_element().max(f64::MIN_POSITIVE);
     let mut cell = extent / 64.0;
     loop {

@@ -28,20 +28,22 @@ fn up_vector(up: Up) -> DVec3 {
 }
 
 /// Directions tried when the model lights itself: the default, then eight
-/// around the up axis, 25° above the horizon (an open-fronted room is seen
-/// through its opening from one of them).
+/// around the up axis at 25° and eight at 5° above the horizon (an
+/// open-fronted room is seen through its opening from one of them, and
+/// from the lower ones under its ceiling).
 pub fn candidate_directions(up: Up) -> Vec<DVec3> {
     let u = up_vector(up);
     let (a, b) = match up {
         Up::Y => (DVec3::Z, DVec3::X),
         Up::Z => (-DVec3::Y, DVec3::X),
     };
-    let elevation = 25f64.to_radians();
     let mut dirs = vec![default_direction(up)];
-    for k in 0..8 {
-        let azimuth = k as f64 * std::f64::consts::FRAC_PI_4;
-        let horizontal = a * azimuth.cos() + b * azimuth.sin();
-        dirs.push((horizontal * elevation.cos() + u * elevation.sin()).normalize());
+    for elevation in [25f64.to_radians(), 5f64.to_radians()] {
+        for k in 0..8 {
+            let azimuth = k as f64 * std::f64::consts::FRAC_PI_4;
+            let horizontal = a * azimuth.cos() + b * azimuth.sin();
+            dirs.push((horizontal * elevation.cos() + u * elevation.sin()).normalize());
+        }
     }
     dirs
 }
@@ -147,7 +149,7 @@ mod tests {
             let c = candidate_directions(up);
             assert_eq!(c[0], default_direction(up));
             assert!(c.iter().all(|d| (d.length() - 1.0).abs() < 1e-12));
-            assert_eq!(c.len(), 9);
+            assert_eq!(c.len(), 17);
         }
     }
 }
