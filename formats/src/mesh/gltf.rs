@@ -319,9 +319,13 @@ impl State<'_> {
         let world = parent * DMat4::from_cols_array_2d(&local);
         if let Some(camera) = node.camera() {
             match camera.projection() {
-                ::gltf::camera::Projection::Perspective(p) => {
-                    mesh.cameras.push(world_camera(&world, &p, camera.name()));
-                }
+                ::gltf::camera::Projection::Perspective(p) => match world_camera(&world, &p, camera.name()) {
+                    Some(c) => mesh.cameras.push(c),
+                    None => mesh.warnings.push(format!(
+                        "camera {} skipped: its field of view or placement is degenerate",
+                        camera.index()
+                    )),
+                },
                 ::gltf::camera::Projection::Orthographic(_) => self.orthographic += 1,
             }
         }
@@ -461,20 +465,30 @@ impl State<'_> {
 }
 
 /// A perspective camera placed by its node's world transform: glTF cameras
-/// look down their local −Z with +Y up.
-fn world_camera(world: &DMat4, p: &::gltf::camera::Perspective, name: Option<&str>) -> MeshCamera {
+/// look down their local −Z with +Y up. `None` when the field of view is not
+/// in (0°, 180°) or the transform flattens the camera.
+fn world_camera(world: &DMat4, p: &::gltf::camera::Perspective, name: Option<&str>) -> Option<MeshCamera> {
     let direction = world.transform_vector3(-DVec3::Z).normalize_or_zero();
     let up = world.transform_vector3(DVec3::Y);
     let up = (up - direction * up.dot(direction)).normalize_or_zero();
-    MeshCamera {
+    let yfov = p.yfov() as f64;
+    let from = world.transform_point3(DVec3::ZERO);
+    if !(yfov > 0.0 && yfov < std::f64::consts::PI)
+        || direction == DVec3::ZERO
+        || up == DVec3::ZERO
+        || !from.is_finite()
+    {
+        return None;
+    }
+    Some(MeshCamera {
         name: name.map(str::to_string),
-        from: world.transform_point3(DVec3::ZERO),
+        from,
         direction,
         up,
-        yfov: p.yfov() as f64,
+        yfov,
         aspect: p.aspect_ratio().map(f64::from),
-        znear: p.znear() as f64,
-    }
+        znear: (p.znear() as f64).max(0.0),
+    })
 }
 
 /// Triangles of a primitive as index triples, wound counter-clockwise.

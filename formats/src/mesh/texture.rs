@@ -61,6 +61,9 @@ impl Texture {
         reader.limits(limits);
         let image = reader.decode().map_err(|e| e.to_string())?.into_rgb8();
         let (width, height) = image.dimensions();
+        if width == 0 || height == 0 {
+            return Err(format!("the image is {width}x{height} pixels"));
+        }
         let rgb = image.pixels().map(|p| p.0).collect();
         Ok(Texture { width, height, rgb, wrap: [Wrap::Repeat; 2] })
     }
