@@ -271,8 +271,10 @@ fn a_buffer_outside_the_model_folder_is_refused_unless_allowed() {
 #[test]
 fn obj_map_kd_and_vertex_colours_colour_the_faces() {
     let dir = tempfile::tempdir().unwrap();
-    write_file(dir.path(), "rb.png", red_blue());
-    write_file(dir.path(), "m.mtl", "newmtl tex\nKd 1 1 1\nmap_Kd -s 1 1 1 rb.png\n");
+    std::fs::create_dir(dir.path().join("tex")).unwrap();
+    write_file(&dir.path().join("tex"), "rb.png", red_blue());
+    // Options before the name, and a Windows separator, as exporters write.
+    write_file(dir.path(), "m.mtl", "newmtl tex\nKd 1 1 1\nmap_Kd -s 1 1 1 tex\\rb.png\n");
     // OBJ's v runs up: vt (u, v) = (x, y) is the same mapping as the glTF quad.
     let obj = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
                usemtl tex\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n";

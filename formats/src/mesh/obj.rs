@@ -239,6 +239,8 @@ impl Textures<'_> {
         } else {
             statement
         };
+        // Exporters on Windows write `textures\wood.png`.
+        let name = &name.replace('\\', "/");
         if let Some(t) = self.cache.get(name) {
             return t.clone();
         }
@@ -250,7 +252,7 @@ impl Textures<'_> {
             .map_err(|why| warnings.push(format!("texture {why}; using the material colour alone")))
             .ok()
             .map(std::rc::Rc::new);
-        self.cache.insert(name.to_string(), loaded.clone());
+        self.cache.insert(name.clone(), loaded.clone());
         loaded
     }
 }
