@@ -269,7 +269,7 @@ fn stage(
     };
     let (view, framing_lights) = match camera {
         Some((i, cam)) => {
-            let v = view::camera_view(cam, o, |p| place.apply(p), centre);
+            let v = view::camera_view(cam, o, |p| place.apply(p), place.scale, centre);
             let name = cam.name.as_deref().map(|n| format!(" `{n}`")).unwrap_or_default();
             summary.notes.push(format!("view from the model's camera {i}{name}"));
             let (_, lights) = view::framing(b, o, (v.from - v.at).normalize_or(DVec3::Z));

@@ -469,6 +469,16 @@ fn a_gltf_camera_becomes_the_view() {
     assert_eq!(v.resolution, [512, 256], "512 wide at the camera's aspect ratio");
     let expect = 2.0 * (0.4f64.tan() * 255.0 / 256.0).atan();
     assert!((v.angle - expect.to_degrees()).abs() < 1e-6);
+    assert!((v.hither - 0.1).abs() < 1e-6, "znear 0.05 scaled by 2: {}", v.hither);
+    // --fit places the camera like the positions: the quad (side 1) is
+    // centred, so (4, 0.5, 0.5) − (0.5, 0.5, 0) = (3.5, 0, 0.5), mirrored
+    // by the negative scale (the probe renders of that view once tripped
+    // an overflow on −0 in the ray offset).
+    let (scene, _) =
+        convert(&mesh, &Options { camera: Some(1), fit: true, scale: -1.0, ..Default::default() });
+    let v = scene.view.unwrap();
+    assert!(close(v.from, -DVec3::new(3.5, 0.0, 0.5), 1e-6), "{:?}", v.from);
+    assert!(close((v.at - v.from).normalize(), DVec3::X, 1e-6) && close(v.up, -DVec3::Y, 1e-6), "mirrored");
 
     // With several cameras and none asked for, the framing view.
     let (scene, _) = convert(&mesh, &Options::default());

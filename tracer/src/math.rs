@@ -116,7 +116,9 @@ pub fn offset_ray_origin(p: Vec3A, n: Vec3A) -> Vec3A {
     for i in 0..3 {
         let of_i = (INT_SCALE * n[i]) as i32;
         let bits = p[i].to_bits() as i32;
-        let p_i = f32::from_bits((bits + if p[i] < 0.0 { -of_i } else { of_i }) as u32);
+        // Wrapping: near zero (where the result is not used) a negative zero's
+        // bits, i32::MIN, would overflow; where it is used it never wraps.
+        let p_i = f32::from_bits(bits.wrapping_add(if p[i] < 0.0 { -of_i } else { of_i }) as u32);
         out[i] = if p[i].abs() < ORIGIN { p[i] + FLOAT_SCALE * n[i] } else { p_i };
     }
     Vec3A::from_array(out)
@@ -140,6 +142,13 @@ pub fn shadow_ray(p: Vec3A, light: Vec3A, side: Vec3A) -> Option<(Ray, f32)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn offsetting_negative_zero_does_not_overflow() {
+        let p = Vec3A::new(-0.0, -0.0, 2.0);
+        let o = offset_ray_origin(p, Vec3A::new(-1.0, -1.0, -1.0));
+        assert!(o.x < 0.0 && o.y < 0.0 && o.z < 2.0, "{o}");
+    }
 
     #[test]
     fn refraction_obeys_snell() {

@@ -93,22 +93,29 @@ pub fn camera_resolution(cam: &MeshCamera, o: &Options) -> [u32; 2] {
     })
 }
 
-/// The NFF view of a file camera, after the same shift and scale as the
-/// positions (`place`): a negative scale mirrors directions too.
-pub fn camera_view(cam: &MeshCamera, o: &Options, place: impl Fn(DVec3) -> DVec3, focus: DVec3) -> View {
+/// The NFF view of a file camera, after the same placement as the
+/// positions (`place`, which scales by `scale`, --fit included): a negative
+/// scale mirrors directions too.
+pub fn camera_view(
+    cam: &MeshCamera,
+    o: &Options,
+    place: impl Fn(DVec3) -> DVec3,
+    scale: f64,
+    focus: DVec3,
+) -> View {
     let [w, h] = camera_resolution(cam, o);
     let from = place(cam.from);
-    let s = o.scale.signum();
+    let s = scale.signum();
     let direction = cam.direction * s;
     // `at` only fixes the direction; its distance is the focus for depth of
     // field, so it is put level with the model's centre.
-    let dist = (focus - from).dot(direction).max(cam.znear.max(1e-9) * o.scale.abs() * 10.0);
+    let dist = (focus - from).dot(direction).max(cam.znear.max(1e-9) * scale.abs() * 10.0);
     View {
         from,
         at: from + direction * dist,
         up: cam.up * s,
         angle: nff_angle(cam.yfov, w, h),
-        hither: (cam.znear * o.scale.abs()).max(0.0),
+        hither: cam.znear * scale.abs(),
         resolution: [w, h],
     }
 }
