@@ -43,16 +43,18 @@ pub struct Lexer<'a> {
     src: &'a [u8],
     pos: usize,
     line: u32,
-    line_start: usize,
     /// Line of the last token returned (0 before the first).
     last_line: u32,
+    /// The last token start on this line and its column: columns are
+    /// counted on from there, so a line is scanned once, not once a token.
+    column_at: (usize, u32),
 }
 
 impl<'a> Lexer<'a> {
     /// A lexer over `src`, which begins at the start of line `line` of its
     /// file (1 for a whole file; later for a chunk of a large one).
     pub fn starting_at(src: &'a [u8], line: u32) -> Self {
-        Lexer { src, pos: 0, line, line_start: 0, last_line: 0 }
+        Lexer { src, pos: 0, line, last_line: 0, column_at: (0, 1) }
     }
 }
 
@@ -72,7 +74,7 @@ impl<'a> Iterator for Lexer<'a> {
             if b == b'\n' {
                 self.pos += 1;
                 self.line += 1;
-                self.line_start = self.pos;
+                self.column_at = (self.pos, 1);
             } else if is_space(b) {
                 self.pos += 1;
             } else if b == b'#' {
@@ -87,7 +89,9 @@ impl<'a> Iterator for Lexer<'a> {
         while self.pos < src.len() && !is_space(src[self.pos]) && src[self.pos] != b'#' {
             self.pos += 1;
         }
-        let column = char_count(&src[self.line_start..start]) + 1;
+        let (from, column_from) = self.column_at;
+        let column = column_from + char_count(&src[from..start]);
+        self.column_at = (start, column);
         let starts_line = self.line != self.last_line;
         self.last_line = self.line;
         Some(Token { text: &src[start..self.pos], line: self.line, column, starts_line })
@@ -117,6 +121,16 @@ mod tests {
         let t = tokens("1.5#x 2\n3");
         assert_eq!(t[0].0, "1.5");
         assert_eq!(t[1].0, "3");
+    }
+
+    #[test]
+    fn incremental_columns_equal_counting_from_the_line_start() {
+        let src = "λ a  é#c é\n\t x   yy λλλ z\n\n  #\n q é é é\r\n w";
+        for t in Lexer::starting_at(src.as_bytes(), 1) {
+            let line = src.lines().nth(t.line as usize - 1).unwrap();
+            let byte = t.text.as_ptr() as usize - line.as_ptr() as usize;
+            assert_eq!(t.column, line[..byte].chars().count() as u32 + 1, "{}", t.display());
+        }
     }
 
     #[test]
