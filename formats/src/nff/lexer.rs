@@ -58,10 +58,23 @@ impl<'a> Lexer<'a> {
     }
 }
 
-#[inline]
-fn is_space(b: u8) -> bool {
-    matches!(b, b' ' | b'\t' | b'\r' | b'\n' | 0x0b | 0x0c)
-}
+/// Byte classes, looked up rather than compared in the hot loops.
+const TOKEN: u8 = 0;
+const SPACE: u8 = 1;
+const NEWLINE: u8 = 2;
+const COMMENT: u8 = 3;
+
+const CLASS: [u8; 256] = {
+    let mut c = [TOKEN; 256];
+    c[b' ' as usize] = SPACE;
+    c[b'\t' as usize] = SPACE;
+    c[b'\r' as usize] = SPACE;
+    c[0x0b] = SPACE;
+    c[0x0c] = SPACE;
+    c[b'\n' as usize] = NEWLINE;
+    c[b'#' as usize] = COMMENT;
+    c
+};
 
 impl<'a> Iterator for Lexer<'a> {
     type Item = Token<'a>;
@@ -70,25 +83,23 @@ impl<'a> Iterator for Lexer<'a> {
     fn next(&mut self) -> Option<Token<'a>> {
         let src = self.src;
         loop {
-            let b = *src.get(self.pos)?;
-            if b == b'\n' {
-                self.pos += 1;
-                self.line += 1;
-                self.column_at = (self.pos, 1);
-            } else if is_space(b) {
-                self.pos += 1;
-            } else if b == b'#' {
-                while self.pos < src.len() && src[self.pos] != b'\n' {
+            match CLASS[*src.get(self.pos)? as usize] {
+                NEWLINE => {
                     self.pos += 1;
+                    self.line += 1;
+                    self.column_at = (self.pos, 1);
                 }
-            } else {
-                break;
+                SPACE => self.pos += 1,
+                COMMENT => {
+                    self.pos +=
+                        src[self.pos..].iter().position(|&b| b == b'\n').unwrap_or(src.len() - self.pos);
+                }
+                _ => break,
             }
         }
         let start = self.pos;
-        while self.pos < src.len() && !is_space(src[self.pos]) && src[self.pos] != b'#' {
-            self.pos += 1;
-        }
+        self.pos +=
+            src[start..].iter().position(|&b| CLASS[b as usize] != TOKEN).unwrap_or(src.len() - start);
         let (from, column_from) = self.column_at;
         let column = column_from + char_count(&src[from..start]);
         self.column_at = (start, column);

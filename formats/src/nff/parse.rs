@@ -211,7 +211,10 @@ struct Parser<'a> {
     first_object_line: Option<u32>,
     /// Whether a `v` keyword was read (even one whose block had errors).
     view_seen: bool,
-    eof: (u32, u32),
+    /// The last token read, for the position just after it (where an
+    /// unexpected end of file is reported); kept whole so the width is
+    /// only counted when such an error happens.
+    last: Option<Token<'a>>,
 }
 
 type Res<T> = Result<T, Diagnostic>;
@@ -229,8 +232,13 @@ impl<'a> Parser<'a> {
             errors: 0,
             first_object_line: None,
             view_seen: false,
-            eof: (1, 1),
+            last: None,
         }
+    }
+
+    /// Line and column just after the last token read ((1, 1) before any).
+    fn eof(&self) -> (u32, u32) {
+        self.last.map_or((1, 1), |t| (t.line, t.column + t.width()))
     }
 
     fn peek(&mut self) -> Option<Token<'a>> {
@@ -245,8 +253,8 @@ impl<'a> Parser<'a> {
             Some(t) => t,
             None => self.lexer.next(),
         };
-        if let Some(t) = &t {
-            self.eof = (t.line, t.column + t.width());
+        if t.is_some() {
+            self.last = t;
         }
         t
     }
@@ -277,8 +285,8 @@ impl<'a> Parser<'a> {
     fn eof_error(&self, expected: What, entity: Entity) -> Diagnostic {
         Diagnostic {
             severity: Severity::Error,
-            line: self.eof.0,
-            column: self.eof.1,
+            line: self.eof().0,
+            column: self.eof().1,
             width: 1,
             message: format!("unexpected end of file: expected {}", expected.describe()),
             note: Some(format!("the `{}` that starts on line {} is cut short", entity.keyword, entity.line)),
@@ -671,8 +679,8 @@ impl<'a> Parser<'a> {
             }
             None => Diagnostic {
                 severity: Severity::Error,
-                line: self.eof.0,
-                column: self.eof.1,
+                line: self.eof().0,
+                column: self.eof().1,
                 width: 1,
                 message: format!("unexpected end of file: expected the view's `{kw}` line"),
                 note,
@@ -720,8 +728,8 @@ impl<'a> Parser<'a> {
             // Reported where the file ends, after whatever else is wrong.
             self.push_error(Diagnostic {
                 severity: Severity::Error,
-                line: self.eof.0,
-                column: self.eof.1,
+                line: self.eof().0,
+                column: self.eof().1,
                 width: 1,
                 message: "the file has no view (`v` block): a scene needs a camera".into(),
                 note: Some(
