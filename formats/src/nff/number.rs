@@ -124,10 +124,33 @@ mod tests {
             "0x10",
             "1_0",
             "",
+            "0.2721655269759087",
+            "12345678",
+            "-87654321.12345678e-3",
+            "0.00000000000000000001",
+            "00000000000000000000000001.5",
+            "99999999999999999999",
         ] {
             let ours = parse_number(s.as_bytes());
             let std = s.parse::<f64>().ok();
             assert_eq!(ours.map(f64::to_bits), std.map(f64::to_bits), "{s:?}");
+        }
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn random_decimals_agree_with_the_standard_library(
+            int in "[0-9]{0,20}", frac in proptest::option::of("[0-9]{0,24}"),
+            exp in proptest::option::of(-30i32..30), neg: bool,
+        ) {
+            let mut s = String::new();
+            if neg { s.push('-'); }
+            s += &int;
+            if let Some(f) = &frac { s.push('.'); s += f; }
+            if let Some(e) = exp { s += &format!("e{e}"); }
+            let ours = parse_number(s.as_bytes());
+            let std = s.parse::<f64>().ok();
+            proptest::prop_assert_eq!(ours.map(f64::to_bits), std.map(f64::to_bits), "{:?}", s);
         }
     }
 }
