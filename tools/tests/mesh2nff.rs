@@ -3,6 +3,8 @@
 //! fans, GLB, embedded buffers, sparse accessors), checked through the
 //! project's own NFF reader.
 
+mod common;
+
 use glam::DVec3;
 use nffkit_formats::nff::{self, ParseOptions};
 use nffkit_formats::{Scene, Shape};
@@ -287,21 +289,7 @@ fn glb_loads_like_gltf() {
 "meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"buffers":[{"byteLength":36}],
 "bufferViews":[{"buffer":0,"byteLength":36}],
 "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}]}"#;
-    let mut j = json.as_bytes().to_vec();
-    while j.len() % 4 != 0 {
-        j.push(b' ');
-    }
-    let total = 12 + 8 + j.len() + 8 + bin.len();
-    let mut glb = Vec::new();
-    glb.extend(b"glTF");
-    glb.extend(2u32.to_le_bytes());
-    glb.extend((total as u32).to_le_bytes());
-    glb.extend((j.len() as u32).to_le_bytes());
-    glb.extend(b"JSON");
-    glb.extend(&j);
-    glb.extend((bin.len() as u32).to_le_bytes());
-    glb.extend(b"BIN\0");
-    glb.extend(&bin);
+    let glb = common::glb(json, &bin);
     let p = dir.path().join("t.glb");
     std::fs::write(&p, glb).unwrap();
     let (scene, _, _) = convert(&p, &Options::default());

@@ -3,7 +3,10 @@
 //! colours, emission turned into lights, glTF cameras, the lights added for
 //! what the camera sees, and the folder rule for referenced files.
 
+mod common;
+
 use base64::Engine;
+use common::glb;
 use glam::DVec3;
 use nffkit_formats::mesh::{load_with, ImportOptions, Mesh};
 use nffkit_formats::nff::{self, ParseOptions};
@@ -197,28 +200,6 @@ fn a_gltf_texture_colours_each_face_from_a_data_uri_a_file_or_the_glb_chunk() {
     let mesh = load(&p, &ImportOptions { textures: false, ..Default::default() });
     assert!(mesh.warnings.iter().any(|w| w.contains("--no-textures")), "{:?}", mesh.warnings);
     assert!(colours(&convert(&mesh, &Options::default()).0).iter().all(|c| *c == DVec3::ONE));
-}
-
-fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
-    let mut j = json.as_bytes().to_vec();
-    while j.len() % 4 != 0 {
-        j.push(b' ');
-    }
-    let mut bin = bin.to_vec();
-    while bin.len() % 4 != 0 {
-        bin.push(0);
-    }
-    let mut out = Vec::new();
-    out.extend(b"glTF");
-    out.extend(2u32.to_le_bytes());
-    out.extend(((12 + 8 + j.len() + 8 + bin.len()) as u32).to_le_bytes());
-    out.extend((j.len() as u32).to_le_bytes());
-    out.extend(b"JSON");
-    out.extend(&j);
-    out.extend((bin.len() as u32).to_le_bytes());
-    out.extend(b"BIN\0");
-    out.extend(&bin);
-    out
 }
 
 #[test]
