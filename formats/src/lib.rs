@@ -14,4 +14,13 @@ pub mod nff;
 pub mod polygon;
 pub mod scene;
 
+/// The plural ending for `n` things in messages: "" for one, "s" otherwise.
+pub fn plural(n: usize) -> &'static str {
+    if n == 1 {
+        ""
+    } else {
+        "s"
+    }
+}
+
 pub use scene::{Color, Light, Material, Primitive, Scene, Shape, SourceLine, View, SHAPE_KINDS, SPD_SKY};

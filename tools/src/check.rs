@@ -1,7 +1,7 @@
 //! `render --check`: validate NFF files and summarise what they hold.
 
 use nffkit_formats::nff::{self, ParseOptions, Severity};
-use nffkit_formats::{Scene, SHAPE_KINDS};
+use nffkit_formats::{plural, Scene, SHAPE_KINDS};
 use std::fmt::Write as _;
 
 /// The outcome of checking one file.
@@ -44,14 +44,6 @@ pub fn check_source(name: &str, src: &[u8], opts: &ParseOptions) -> CheckReport 
             );
             CheckReport { diagnostics, summary, errors }
         }
-    }
-}
-
-fn plural(n: usize) -> &'static str {
-    if n == 1 {
-        ""
-    } else {
-        "s"
     }
 }
 

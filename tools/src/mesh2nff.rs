@@ -21,7 +21,7 @@ use glam::DVec3;
 use nffkit_formats::mesh::{Corner, Face, Mesh, MeshCamera};
 use nffkit_formats::nff::NffWriter;
 use nffkit_formats::polygon::newell_normal;
-use nffkit_formats::{Light, Material, View};
+use nffkit_formats::{plural, Light, Material, View};
 use nffkit_tracer::triangulate::triangulate;
 use std::io::Write;
 
@@ -239,7 +239,7 @@ fn chosen_camera<'m>(mesh: &'m Mesh, o: &Options) -> Result<Option<(usize, &'m M
             None => anyhow::bail!(
                 "--camera {i}: the model has {} perspective camera{} (numbered from 0)",
                 mesh.cameras.len(),
-                if mesh.cameras.len() == 1 { "" } else { "s" }
+                plural(mesh.cameras.len())
             ),
         },
         None if mesh.cameras.len() == 1 => Ok(Some((0, &mesh.cameras[0]))),
@@ -307,14 +307,6 @@ fn stage(
         summary.notes.push(format!("{} light{} from emitting faces", emission.len(), plural(emission.len())));
     }
     Ok((view, lights))
-}
-
-fn plural(n: usize) -> &'static str {
-    if n == 1 {
-        ""
-    } else {
-        "s"
-    }
 }
 
 /// The framing view, among the candidate directions, in which the model's

@@ -93,21 +93,7 @@ pub fn prepare(scene: &Scene, opts: &PrepareOptions) -> Result<RenderScene, Prep
         return Err(PrepareError::BadSize(w, h));
     }
     let camera = Camera::new(view, w, h).with_lens(opts.aperture, opts.focus);
-    // SPD's convention for lights without a colour: each gets 1/sqrt(n), or
-    // 1/(2 sqrt(n)) with the SPD Readme's ambient term beside them.
-    let root_n = (scene.lights.len().max(1) as f32).sqrt();
-    let (default_i, ambient) = match opts.ambient {
-        Ambient::Value(a) => (1.0 / root_n, a),
-        Ambient::Spd => (0.5 / root_n, 0.5 / root_n),
-    };
-    let lights = scene
-        .lights
-        .iter()
-        .map(|l| PointLight {
-            position: v3(l.position),
-            intensity: l.color.map(v3).unwrap_or(Vec3A::splat(default_i)),
-        })
-        .collect();
+    let (lights, ambient) = point_lights(&scene.lights, opts.ambient);
     let materials = std::iter::once(nffkit_formats::Material::default())
         .chain(scene.materials.iter().cloned())
         .map(|m| WhittedMaterial {
@@ -130,6 +116,25 @@ pub fn prepare(scene: &Scene, opts: &PrepareOptions) -> Result<RenderScene, Prep
         geometry,
         accel,
     })
+}
+
+/// The file's lights with their intensities resolved, and the ambient
+/// intensity. SPD's convention for lights without a colour: each gets
+/// 1/sqrt(n), or 1/(2 sqrt(n)) with the SPD Readme's ambient term beside them.
+pub fn point_lights(lights: &[nffkit_formats::Light], ambient: Ambient) -> (Vec<PointLight>, f32) {
+    let root_n = (lights.len().max(1) as f32).sqrt();
+    let (default_i, ambient) = match ambient {
+        Ambient::Value(a) => (1.0 / root_n, a),
+        Ambient::Spd => (0.5 / root_n, 0.5 / root_n),
+    };
+    let lights = lights
+        .iter()
+        .map(|l| PointLight {
+            position: v3(l.position),
+            intensity: l.color.map(v3).unwrap_or(Vec3A::splat(default_i)),
+        })
+        .collect();
+    (lights, ambient)
 }
 
 /// The six faces of a box as quads of corner indices (bit 0: x, bit 1: y,

@@ -36,6 +36,7 @@ use crate::scene::Material;
 use ::gltf::mesh::Mode;
 use ::gltf::Gltf;
 use glam::{DMat3, DMat4, DVec2, DVec3};
+use std::borrow::Cow;
 use std::collections::HashMap;
 use std::path::Path;
 use std::rc::Rc;
@@ -112,7 +113,7 @@ pub fn load(path: &Path, opts: &ImportOptions) -> Result<Mesh, MeshError> {
         mesh.warnings.push(format!(
             "{} orthographic camera{} skipped: NFF views are perspective",
             state.orthographic,
-            if state.orthographic == 1 { "" } else { "s" }
+            crate::plural(state.orthographic)
         ));
     }
     if state.degenerate > 0 {
@@ -221,10 +222,12 @@ impl Images<'_> {
             return done.clone();
         }
         let image = texture.source();
-        let (name, bytes) = match image.source() {
+        // Bytes in a GLB chunk or buffer are borrowed; only files and data
+        // URIs are read into a new vector.
+        let (name, bytes): (String, Result<Cow<[u8]>, String>) = match image.source() {
             ::gltf::image::Source::View { view, .. } => {
                 let bytes = self.buffers.get(view.buffer().index()).and_then(|b| {
-                    b.0.get(view.offset()..view.offset().checked_add(view.length())?).map(<[u8]>::to_vec)
+                    b.0.get(view.offset()..view.offset().checked_add(view.length())?).map(Cow::Borrowed)
                 });
                 (
                     format!("image {} (buffer view {})", image.index(), view.index()),
@@ -234,7 +237,10 @@ impl Images<'_> {
             ::gltf::image::Source::Uri { uri, .. } => {
                 let shown =
                     if uri.starts_with("data:") { "a data: URI".to_string() } else { format!("`{uri}`") };
-                (format!("image {} ({shown})", image.index()), read_uri(self.dir, uri, self.opts))
+                (
+                    format!("image {} ({shown})", image.index()),
+                    read_uri(self.dir, uri, self.opts).map(Cow::Owned),
+                )
             }
         };
         let decoded = bytes
@@ -454,10 +460,9 @@ impl State<'_> {
                 let c = look.factor * textured.unwrap_or(DVec3::ONE) * vertex.unwrap_or(DVec3::ONE);
                 face.color = Some(c.as_vec3().to_array());
             }
-            face.emission = look
-                .emission
-                .map(|e| (e * face_mean(&emissive_map, t).unwrap_or(DVec3::ONE)).as_vec3().to_array());
-            face.emission = face.emission.filter(|e| e.iter().any(|&c| c > 0.0));
+            if let Some(e) = look.emission {
+                face.set_emission(e * face_mean(&emissive_map, t).unwrap_or(DVec3::ONE));
+            }
             mesh.faces.push(face);
         }
         Ok(())

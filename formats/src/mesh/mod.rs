@@ -46,6 +46,11 @@ impl Face {
     pub fn plain(first: u32, count: u32, material: u32) -> Face {
         Face { first, count, material, color: None, emission: None }
     }
+
+    /// Set the face's emission; one that is black in every channel is none.
+    pub(crate) fn set_emission(&mut self, e: DVec3) {
+        self.emission = (e.max_element() > 0.0).then(|| e.as_vec3().to_array());
+    }
 }
 
 /// A perspective camera of the file, in world space.

@@ -90,7 +90,7 @@ fn sanitize(text: &str, warnings: &mut Vec<String>, colors: &mut VertexColors) -
     if lines + points > 0 {
         warnings.push(format!(
             "{lines} polyline (`l`) and {points} point (`p`) element{} skipped: NFF has no lines or points",
-            if lines + points == 1 { "" } else { "s" }
+            crate::plural(lines + points)
         ));
     }
     out
@@ -206,7 +206,12 @@ pub fn load_bytes(bytes: &[u8], name: &Path, dir: &Path, opts: &ImportOptions) -
     let mut textures = Textures { dir: mtl_dir.into_inner(), opts, cache: HashMap::new() };
     let plain = Look { color: Material::default().color, ..Look::default() };
     let looks: Vec<Look> = std::iter::once(plain)
-        .chain(materials.iter().map(|m| Look::of(m, &mut textures, &mut mesh.warnings)))
+        .chain(
+            materials
+                .iter()
+                .zip(&mesh.materials[1..])
+                .map(|(m, nff)| Look::of(m, nff.color, &mut textures, &mut mesh.warnings)),
+        )
         .collect();
     if !opts.textures
         && materials.iter().any(|m| m.diffuse_texture.is_some() || m.unknown_param.contains_key("map_Ke"))
@@ -268,7 +273,8 @@ struct Look {
 }
 
 impl Look {
-    fn of(m: &tobj::Material, textures: &mut Textures, warnings: &mut Vec<String>) -> Look {
+    /// `color` is the material's NFF colour (from [`convert_material`]).
+    fn of(m: &tobj::Material, color: DVec3, textures: &mut Textures, warnings: &mut Vec<String>) -> Look {
         let emission = m.emissive.map(DVec3::from_array).filter(|e| e.max_element() > 0.0);
         Look {
             diffuse: m.diffuse_texture.as_deref().and_then(|t| textures.get(t, warnings)),
@@ -276,7 +282,7 @@ impl Look {
                 .and(m.unknown_param.get("map_Ke"))
                 .and_then(|t| textures.get(t, warnings)),
             emission,
-            color: convert_material(m).color,
+            color,
         }
     }
 }
@@ -307,6 +313,7 @@ fn add_model(mesh: &mut Mesh, m: &tobj::Mesh, name: &str, looks: &[Look], colors
         let i = m.texcoord_indices[j] as usize * 2;
         DVec2::new(m.texcoords[i], 1.0 - m.texcoords[i + 1])
     };
+    let mut uvs = Vec::new();
     let color_of = |j: usize| {
         let p = &m.positions[m.indices[j] as usize * 3..][..3];
         colors.get(&[p[0].to_bits(), p[1].to_bits(), p[2].to_bits()]).copied()
@@ -333,25 +340,29 @@ fn add_model(mesh: &mut Mesh, m: &tobj::Mesh, name: &str, looks: &[Look], colors
             continue;
         }
         let mut face = Face::plain(first, n, material);
-        let uvs: Vec<DVec2> = if has_uvs { range.clone().map(uv).collect() } else { Vec::new() };
+        uvs.clear();
+        if has_uvs {
+            uvs.extend(range.clone().map(uv));
+        }
         let mut color = None;
         if let (Some(t), true) = (&look.diffuse, has_uvs) {
             color = Some(look.color * t.mean_over_face(&uvs));
         }
-        let vertex: Vec<DVec3> = range.clone().filter_map(color_of).collect();
-        if !vertex.is_empty() {
-            let mean = vertex.iter().sum::<DVec3>() / vertex.len() as f64;
-            color = Some(color.unwrap_or(look.color) * mean);
+        if !colors.is_empty() {
+            let (sum, count) =
+                range.clone().filter_map(color_of).fold((DVec3::ZERO, 0), |(s, n), c| (s + c, n + 1));
+            if count > 0 {
+                color = Some(color.unwrap_or(look.color) * sum / count as f64);
+            }
         }
         face.color = color.map(|c| c.as_vec3().to_array());
-        face.emission = look.emission.map(|e| {
+        if let Some(e) = look.emission {
             let tex = match (&look.emission_texture, has_uvs) {
                 (Some(t), true) => t.mean_over_face(&uvs),
                 _ => DVec3::ONE,
             };
-            (e * tex).as_vec3().to_array()
-        });
-        face.emission = face.emission.filter(|e| e.iter().any(|&c| c > 0.0));
+            face.set_emission(e * tex);
+        }
         mesh.faces.push(face);
     }
 }

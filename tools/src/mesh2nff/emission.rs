@@ -51,11 +51,6 @@ pub fn lights(mesh: &Mesh, pos: &[DVec3], mirrored: bool, bounds: (DVec3, DVec3)
         .collect()
 }
 
-/// Whether any face emits.
-pub fn any(mesh: &Mesh) -> bool {
-    mesh.faces.iter().any(|f| f.emission.is_some())
-}
-
 fn emitters(mesh: &Mesh, pos: &[DVec3], mirrored: bool, bounds: (DVec3, DVec3)) -> Vec<Emitter> {
     let diag = (bounds.1 - bounds.0).length();
     let centre = (bounds.0 + bounds.1) * 0.5;

@@ -8,8 +8,7 @@ use glam::Vec3A;
 use nffkit_formats::nff::{parse, ParseOptions};
 use nffkit_formats::{Light, View};
 use nffkit_tracer::camera::Camera;
-use nffkit_tracer::light::PointLight;
-use nffkit_tracer::prepare::{prepare, PrepareOptions, RenderScene};
+use nffkit_tracer::prepare::{point_lights, prepare, Ambient, PrepareOptions, RenderScene};
 use nffkit_tracer::render::{render, RenderSettings};
 
 /// Side of a probe image in pixels.
@@ -31,10 +30,6 @@ pub struct Probe {
     scene: RenderScene,
 }
 
-fn v3(v: glam::DVec3) -> Vec3A {
-    Vec3A::new(v.x as f32, v.y as f32, v.z as f32)
-}
-
 impl Probe {
     /// Read back `body` (materials and geometry as written) with `view` as
     /// a placeholder camera.
@@ -54,14 +49,7 @@ impl Probe {
     /// them: a light without a colour gets 1/sqrt(n)).
     pub fn look(&mut self, view: &View, lights: &[Light]) -> Seen {
         self.scene.camera = Camera::new(view, SIZE, SIZE);
-        let default = 1.0 / (lights.len().max(1) as f32).sqrt();
-        self.scene.lights = lights
-            .iter()
-            .map(|l| PointLight {
-                position: v3(l.position),
-                intensity: l.color.map(v3).unwrap_or(Vec3A::splat(default)),
-            })
-            .collect();
+        self.scene.lights = point_lights(lights, Ambient::default()).0;
         let settings = RenderSettings { max_depth: 2, ..Default::default() };
         let out = render(&self.scene, &settings, &|_, _| {});
         let pixels = (SIZE * SIZE) as f64;
