@@ -20,6 +20,7 @@ use nffkit_formats::nff::{self, ParseOptions};
 use nffkit_formats::Scene;
 use nffkit_tracer::accel::Intersector;
 use nffkit_tracer::math::{shadow_ray, RayQuery};
+use nffkit_tracer::packet::{PacketHits, RayPacket, LANES, NO_PRIM};
 use nffkit_tracer::prepare::{prepare, PrepareOptions, RenderScene};
 use nffkit_tracer::render::render;
 use nffkit_tracer::stats::Counters;
@@ -38,6 +39,14 @@ pub struct RayRates {
     pub shadow: f64,
     /// Shadow rays traced (one per light per eye hit facing it).
     pub shadow_rays: u64,
+    /// Eye rays per second on one thread as packets of 4x4 pixel centres,
+    /// in millions.
+    pub eye_packet: f64,
+    /// Eye rays that hit, traced as packets (must equal `eye_hits`).
+    pub eye_packet_hits: u64,
+    /// Shadow rays per second as packets (16 neighbouring rays toward one
+    /// light), in millions.
+    pub shadow_packet: f64,
 }
 
 /// Best of `runs` timings of `f`, in seconds.
@@ -97,11 +106,45 @@ fn rates_with<I: Intersector>(scene: &RenderScene, accel: &I, runs: u32) -> RayR
             shadow.iter().filter(|(q, max)| accel.occluded(geom, q, *max, &mut scratch, &mut c)).count();
     });
     std::hint::black_box(blocked);
+    // The same eye rays as packets of 4x4 neighbouring pixels, and the same
+    // shadow rays sixteen at a time (neighbours in pixel order).
+    let blocks: Vec<RayPacket> = (0..h.div_ceil(4))
+        .flat_map(|by| (0..w.div_ceil(4)).map(move |bx| (bx * 4, by * 4)))
+        .map(|(x0, y0)| {
+            let lanes = (y0..(y0 + 4).min(h)).flat_map(|y| (x0..(x0 + 4).min(w)).map(move |x| (x, y)));
+            RayPacket::new(lanes.map(|(x, y)| {
+                let (ray, t_min) = scene.camera.ray(x as f32 + 0.5, y as f32 + 0.5, glam::Vec2::ZERO);
+                (ray, t_min, f32::INFINITY)
+            }))
+        })
+        .collect();
+    let mut packet_hits = 0;
+    let eye_packet_s = best_of(runs, || {
+        packet_hits = 0;
+        for p in &blocks {
+            let mut hits = PacketHits::new(p);
+            accel.intersect_packet(geom, p, &mut hits, &mut scratch, &mut c);
+            packet_hits += hits.prim.iter().filter(|&&id| id != NO_PRIM).count() as u64;
+        }
+    });
+    let shadow_packets: Vec<RayPacket> =
+        shadow.chunks(LANES).map(|ch| RayPacket::new(ch.iter().map(|(q, max)| (q.ray, 0.0, *max)))).collect();
+    let shadow_packet_s = best_of(runs, || {
+        blocked = 0;
+        for p in &shadow_packets {
+            let out = accel.occluders_packet(geom, p, &mut scratch, &mut c);
+            blocked += out.iter().filter(|&&id| id != NO_PRIM).count();
+        }
+    });
+    std::hint::black_box(blocked);
     RayRates {
         eye: eye.len() as f64 / eye_s / 1e6,
         eye_hits: hits.len() as u64,
         shadow: shadow.len() as f64 / shadow_s.max(1e-9) / 1e6,
         shadow_rays: shadow.len() as u64,
+        eye_packet: eye.len() as f64 / eye_packet_s / 1e6,
+        eye_packet_hits: packet_hits,
+        shadow_packet: shadow.len() as f64 / shadow_packet_s.max(1e-9) / 1e6,
     }
 }
 

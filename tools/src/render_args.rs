@@ -141,6 +141,11 @@ pub struct RenderArgs {
     /// to measure what it saves). The image does not change.
     #[arg(long)]
     pub no_shadow_cache: bool,
+    /// Trace eye rays and their shadow rays one by one instead of as SIMD
+    /// packets (a pixel's samples, or 4x4 pixel centres, together; to
+    /// measure what packets save). The image does not change.
+    #[arg(long)]
+    pub no_packets: bool,
     /// Also write a heat map of the traversal work per pixel (primitive
     /// tests plus nodes or cells visited) to this PNG, with a colour bar.
     #[arg(long, value_name = "FILE")]
@@ -302,6 +307,7 @@ impl RenderArgs {
             spd_corners: self.spd_stats,
             cost: self.aov_cost.is_some(),
             shadow_cache: !self.no_shadow_cache,
+            packets: !self.no_packets,
             row_stride: 1,
             window: None,
         };

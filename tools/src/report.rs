@@ -57,6 +57,19 @@ pub fn statistics(
     );
     let _ = writeln!(
         s,
+        "packets      {}",
+        if settings.packets && !settings.cost {
+            format!(
+                "eye and shadow rays in packets of {}, kernels for {}",
+                nffkit_tracer::packet::LANES,
+                nffkit_tracer::simd::isa()
+            )
+        } else {
+            "off (ray by ray)".into()
+        }
+    );
+    let _ = writeln!(
+        s,
         "accelerator  {}: {} {}, {:.2} MB, built in {:.1} ms",
         info.summary,
         info.nodes,

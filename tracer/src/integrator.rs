@@ -18,7 +18,10 @@
 //!   reflection, when the transmitted share goes to that one reflection ray.
 
 use crate::accel::{test_shadow, Intersector};
+use crate::geometry::Hit;
+use crate::material::WhittedMaterial;
 use crate::math::{basis, offset_ray_origin, reflect, refract, shadow_ray, Ray, RayQuery};
+use crate::packet::{PacketHits, RayPacket, LANES, NO_PRIM};
 use crate::prepare::RenderScene;
 use crate::sampling::{concentric_disk, Sampler};
 use crate::shadow_cache::ShadowCache;
@@ -94,6 +97,28 @@ pub struct Whitted<'a, I: Intersector> {
 /// one dimension per light per bounce.
 pub const FIRST_LIGHT_DIMENSION: u32 = 2;
 
+/// What shading needs of a hit: the point, normals facing the incoming ray
+/// (two-sided shading), the ray's direction and the material.
+#[derive(Clone, Copy)]
+struct ShadePoint {
+    p: Vec3A,
+    ng: Vec3A,
+    ns: Vec3A,
+    d: Vec3A,
+    entering: bool,
+    m: WhittedMaterial,
+}
+
+/// A shadow ray toward one light, with the light direction and N·L that its
+/// contribution needs when the ray is clear.
+#[derive(Clone, Copy)]
+struct LightRay {
+    l: Vec3A,
+    n_dot_l: f32,
+    query: RayQuery,
+    max: f32,
+}
+
 impl<I: Intersector> Whitted<'_, I> {
     /// Radiance along `ray`, which starts at distance `t_min` (the hither
     /// plane for eye rays), has path depth `depth` (1 for eye rays) and
@@ -114,26 +139,115 @@ impl<I: Intersector> Whitted<'_, I> {
         if depth == 1 {
             th.counters.eye_hits += 1;
         }
-        let s = scene.geometry.surface(&hit, &q);
+        let sp = self.shade_point(&q, &hit);
+        let mut color = scene.ambient * sp.m.kd * sp.m.color;
+        for k in 0..scene.lights.len() {
+            let Some(lr) = self.light_ray(&sp, k, depth, id, &mut th.counters) else { continue };
+            if !self.cache_blocks(&lr, k, depth, th) && !self.blocked(&lr, k, depth, th) {
+                color += self.direct(&sp, k, &lr);
+            }
+        }
+        self.secondary(&sp, color, depth, weight, id, th)
+    }
+
+    /// Radiance along eye rays traced as one packet (at most
+    /// [`LANES`]): `rays[i]` is `(ray, t_min)` of sample `ids[i]`, its
+    /// colour goes to `out[i]`. The eye rays and the shadow rays of their
+    /// hits travel as packets; reflected and refracted rays, which scatter,
+    /// are traced one by one. The colours equal those of [`Whitted::li`].
+    pub fn li_packet(
+        &self,
+        rays: &[(Ray, f32)],
+        ids: &[SampleId],
+        th: &mut ThreadState<I::Scratch>,
+        out: &mut [Vec3A],
+    ) {
+        let scene = self.scene;
+        let geom = &scene.geometry;
+        let eye = RayPacket::new(rays.iter().map(|&(ray, t_min)| (ray, t_min, f32::INFINITY)));
+        let mut hits = PacketHits::new(&eye);
+        self.accel.intersect_packet(geom, &eye, &mut hits, &mut th.scratch, &mut th.counters);
+        let mut points = [None; LANES];
+        let mut color = [Vec3A::ZERO; LANES];
+        for (i, o) in out.iter_mut().enumerate().take(rays.len()) {
+            let Some(hit) = hits.get(i) else {
+                *o = scene.background;
+                continue;
+            };
+            th.counters.eye_hits += 1;
+            let sp = self.shade_point(&eye.queries[i], &hit);
+            color[i] = scene.ambient * sp.m.kd * sp.m.color;
+            points[i] = Some(sp);
+        }
+        let mut light_rays = [None; LANES];
+        for k in 0..scene.lights.len() {
+            let mut shadow = RayPacket::new(std::iter::empty());
+            for (i, sp) in points.iter().enumerate() {
+                light_rays[i] = None;
+                let Some(sp) = sp else { continue };
+                let Some(lr) = self.light_ray(sp, k, 1, ids[i], &mut th.counters) else { continue };
+                if !self.cache_blocks(&lr, k, 1, th) {
+                    shadow.set(i, lr.query, lr.max);
+                    light_rays[i] = Some(lr);
+                }
+            }
+            if shadow.is_empty() {
+                continue;
+            }
+            let blockers = self.accel.occluders_packet(geom, &shadow, &mut th.scratch, &mut th.counters);
+            for (i, lr) in light_rays.iter().enumerate() {
+                let (Some(lr), Some(sp)) = (lr, &points[i]) else { continue };
+                match blockers[i] {
+                    NO_PRIM => color[i] += self.direct(sp, k, lr),
+                    id => th.shadow_cache.set(k, 1, id),
+                }
+            }
+        }
+        for (i, sp) in points.iter().enumerate() {
+            if let Some(sp) = sp {
+                out[i] = self.secondary(sp, color[i], 1, 1.0, ids[i], th);
+            }
+        }
+    }
+
+    /// The shading record of `hit` on the ray of `q`.
+    #[inline]
+    fn shade_point(&self, q: &RayQuery, hit: &Hit) -> ShadePoint {
+        let scene = self.scene;
+        let s = scene.geometry.surface(hit, q);
         let info = scene.geometry.info[hit.prim as usize];
         let m = scene.materials[info.material as usize];
-        let d = ray.d;
+        let d = q.ray.d;
         // Face the normals towards the incoming ray (two-sided shading).
         let entering = s.ng.dot(d) < 0.0;
         let flip = if entering { 1.0 } else { -1.0 };
-        let (ng, ns) = (s.ng * flip, s.ns * flip);
-        let mut color = scene.ambient * m.kd * m.color;
-        let view = -d;
-        for (k, light) in scene.lights.iter().enumerate() {
-            let pos = self.light_position(k, light.position, s.p, depth, id);
-            let Some((l, n_dot_l)) = self.lit(s.p, pos, ng, ns, (k, depth), th) else { continue };
-            let r = reflect(-l, ns);
-            let spec = if m.ks > 0.0 { m.ks * r.dot(view).max(0.0).powf(m.shine) } else { 0.0 };
-            color += light.intensity * (m.kd * n_dot_l * m.color + Vec3A::splat(spec));
-        }
+        ShadePoint { p: s.p, ng: s.ng * flip, ns: s.ns * flip, d, entering, m }
+    }
+
+    /// What light `k` adds at `sp` when its shadow ray is clear.
+    #[inline]
+    fn direct(&self, sp: &ShadePoint, k: usize, lr: &LightRay) -> Vec3A {
+        let m = &sp.m;
+        let r = reflect(-lr.l, sp.ns);
+        let spec = if m.ks > 0.0 { m.ks * r.dot(-sp.d).max(0.0).powf(m.shine) } else { 0.0 };
+        self.scene.lights[k].intensity * (m.kd * lr.n_dot_l * m.color + Vec3A::splat(spec))
+    }
+
+    /// Add the reflected and refracted light at `sp` to `color` (in that
+    /// order), tracing the rays the rule in force spawns.
+    fn secondary(
+        &self,
+        sp: &ShadePoint,
+        mut color: Vec3A,
+        depth: u32,
+        weight: f32,
+        id: SampleId,
+        th: &mut ThreadState<I::Scratch>,
+    ) -> Vec3A {
         if depth >= self.settings.max_depth {
             return color;
         }
+        let ShadePoint { p, ng, ns, d, entering, m } = *sp;
         let min = self.settings.min_weight;
         let refracted = if m.t > 0.0 {
             let eta = if entering { 1.0 / m.ior } else { m.ior };
@@ -144,7 +258,7 @@ impl<I: Intersector> Whitted<'_, I> {
         let tir = m.t > 0.0 && refracted.is_none();
         let trace_mirror = |share: f32, th: &mut ThreadState<I::Scratch>| {
             th.counters.reflected += 1;
-            let o = offset_ray_origin(s.p, ng);
+            let o = offset_ray_origin(p, ng);
             share * self.li(Ray { o, d: self.mirror(d, ns, ng) }, 0.0, depth + 1, weight * share, id, th)
         };
         if self.settings.spd_rules {
@@ -166,54 +280,55 @@ impl<I: Intersector> Whitted<'_, I> {
         if let Some(t) = refracted {
             if weight * m.t >= min {
                 th.counters.refracted += 1;
-                let o = offset_ray_origin(s.p, -ng);
+                let o = offset_ray_origin(p, -ng);
                 color += m.t * self.li(Ray { o, d: t }, 0.0, depth + 1, weight * m.t, id, th);
             }
         }
         color
     }
 
-    /// The direction to a light at `pos` and N·L, when the light faces the
-    /// point and its shadow ray ([`shadow_ray`]) is clear, counting the
-    /// shadow ray. The shadow cache's primitive for (light, depth) is tested
-    /// first.
+    /// The shadow ray toward light `k` ([`shadow_ray`]) when the light
+    /// faces the point, counting it.
     #[inline]
-    fn lit(
-        &self,
-        p: Vec3A,
-        pos: Vec3A,
-        ng: Vec3A,
-        ns: Vec3A,
-        (light, depth): (usize, u32),
-        th: &mut ThreadState<I::Scratch>,
-    ) -> Option<(Vec3A, f32)> {
-        let to_light = pos - p;
+    fn light_ray(&self, sp: &ShadePoint, k: usize, depth: u32, id: SampleId, c: &mut Counters) -> Option<LightRay> {
+        let pos = self.light_position(k, self.scene.lights[k].position, sp.p, depth, id);
+        let to_light = pos - sp.p;
         let dist = to_light.length();
         if dist == 0.0 {
             return None;
         }
         let l = to_light / dist;
-        let n_dot_l = ns.dot(l);
+        let n_dot_l = sp.ns.dot(l);
         if n_dot_l <= 0.0 {
             return None;
         }
-        let side = if ng.dot(l) >= 0.0 { ng } else { -ng };
-        th.counters.shadow += 1;
-        let (ray, max) = shadow_ray(p, pos, side)?;
-        let sq = RayQuery::new(ray, 0.0);
+        let side = if sp.ng.dot(l) >= 0.0 { sp.ng } else { -sp.ng };
+        c.shadow += 1;
+        let (ray, max) = shadow_ray(sp.p, pos, side)?;
+        Some(LightRay { l, n_dot_l, query: RayQuery::new(ray, 0.0), max })
+    }
+
+    /// Whether the shadow cache's primitive for (light, depth) blocks the
+    /// ray, counting a cache hit.
+    #[inline]
+    fn cache_blocks(&self, lr: &LightRay, light: usize, depth: u32, th: &mut ThreadState<I::Scratch>) -> bool {
+        let Some(id) = th.shadow_cache.get(light, depth) else { return false };
+        let blocks = test_shadow(&self.scene.geometry, id, &lr.query, lr.max, &mut th.counters);
+        th.counters.shadow_cache_hits += u64::from(blocks);
+        blocks
+    }
+
+    /// Whether anything blocks the shadow ray, remembering the blocker in
+    /// the shadow cache.
+    #[inline]
+    fn blocked(&self, lr: &LightRay, light: usize, depth: u32, th: &mut ThreadState<I::Scratch>) -> bool {
         let geom = &self.scene.geometry;
-        if let Some(id) = th.shadow_cache.get(light, depth) {
-            if test_shadow(geom, id, &sq, max, &mut th.counters) {
-                th.counters.shadow_cache_hits += 1;
-                return None;
-            }
-        }
-        match self.accel.occluder(geom, &sq, max, &mut th.scratch, &mut th.counters) {
+        match self.accel.occluder(geom, &lr.query, lr.max, &mut th.scratch, &mut th.counters) {
             Some(id) => {
                 th.shadow_cache.set(light, depth, id);
-                None
+                true
             }
-            None => Some((l, n_dot_l)),
+            None => false,
         }
     }
 

@@ -8,7 +8,9 @@
 //! The hot loop (traversal and primitive tests) works on plain arrays indexed
 //! by `u32`; there is no trait object per primitive and no allocation per ray.
 #![deny(missing_docs)]
-#![forbid(unsafe_code)]
+// Unsafe code is refused except where `simd::dispatch!` calls kernels
+// compiled for an instruction set the processor was checked to have.
+#![deny(unsafe_code)]
 
 pub mod aabb;
 pub mod accel;
@@ -22,10 +24,12 @@ pub mod integrator;
 pub mod light;
 pub mod material;
 pub mod math;
+pub mod packet;
 pub mod prepare;
 pub mod render;
 pub mod sampling;
 pub mod shadow_cache;
+pub mod simd;
 pub mod stats;
 pub mod triangulate;
 

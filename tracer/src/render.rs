@@ -7,6 +7,8 @@ use crate::camera::Camera;
 use crate::film::Film;
 use crate::filter::{Filter, FilterKind};
 use crate::integrator::{LightShape, SampleId, ShadeSettings, ThreadState, Whitted};
+use crate::math::Ray;
+use crate::packet::LANES;
 use crate::prepare::RenderScene;
 use crate::sampling::{concentric_disk, Sampler, SamplerKind};
 use crate::shadow_cache::ShadowCache;
@@ -45,6 +47,11 @@ pub struct RenderSettings {
     /// Test each light's last occluder first (see [`crate::shadow_cache`]);
     /// the image is the same either way.
     pub shadow_cache: bool,
+    /// Trace coherent eye rays (a pixel's samples, or 4x4 pixel centres)
+    /// and their shadow rays as SIMD packets (see [`crate::packet`]); the
+    /// image is the same either way. Work-per-pixel images (`cost`) are
+    /// always made ray by ray.
+    pub packets: bool,
     /// Render only every n-th row (1: all), leaving the others black; for
     /// estimating the time of very slow renders from a subset of pixels.
     pub row_stride: u32,
@@ -97,6 +104,7 @@ impl Default for RenderSettings {
             spd_corners: false,
             cost: false,
             shadow_cache: true,
+            packets: true,
             row_stride: 1,
             window: None,
         }
@@ -177,10 +185,8 @@ fn render_with<I: Intersector>(
     let out = if settings.spd_corners {
         // (w+1) x (h+1) corner rays, each pixel the mean of its four corners.
         let grid = Grid2 { x0: 0, y0: 0, width: w + 1, height: h + 1 };
-        let (corners, cost, counters) = run_tiles(&grid, accel, scene, settings, progress, |x, y, th| {
-            let (ray, t_min) = scene.camera.ray(x as f32, y as f32, Vec2::ZERO);
-            th.counters.eye += 1;
-            shader.li(ray, t_min, 1, 1.0, SampleId { px: x, py: y, index: 0 }, th)
+        let (corners, cost, counters) = run_tiles(&grid, accel, scene, settings, progress, |pts, th, out| {
+            eye_rays(&shader, settings, pts, th, out, |x, y| scene.camera.ray(x as f32, y as f32, Vec2::ZERO))
         });
         let mut film = Film::new(w, h);
         for y in 0..h {
@@ -202,11 +208,24 @@ fn render_with<I: Intersector>(
         });
         let grid = Grid2 { x0: win.x0, y0: win.y0, width: win.width(), height: win.height() };
         let stride = settings.row_stride.max(1);
-        let (pixels, cost, counters) = run_tiles(&grid, accel, scene, settings, progress, |x, y, th| {
-            if y % stride != 0 {
-                return Vec3A::ZERO;
+        let centre = settings.pixel_centre_only(&scene.camera);
+        let (pixels, cost, counters) = run_tiles(&grid, accel, scene, settings, progress, |pts, th, out| {
+            if stride > 1 {
+                // Skipped rows stay black; the rest go one by one.
+                for (&(x, y), o) in pts.iter().zip(out.iter_mut()) {
+                    if y % stride == 0 {
+                        *o = pixel(&shader, &filter, settings, x, y, th);
+                    }
+                }
+            } else if centre {
+                eye_rays(&shader, settings, pts, th, out, |x, y| {
+                    scene.camera.ray(x as f32 + 0.5, y as f32 + 0.5, Vec2::ZERO)
+                });
+            } else {
+                for (&(x, y), o) in pts.iter().zip(out.iter_mut()) {
+                    *o = pixel(&shader, &filter, settings, x, y, th);
+                }
             }
-            pixel(&shader, &filter, settings, x, y, th)
         });
         RenderOutput {
             film: Film { width: grid.width, height: grid.height, pixels },
@@ -218,7 +237,38 @@ fn render_with<I: Intersector>(
     RenderOutput { seconds: t0.elapsed().as_secs_f64(), ..out }
 }
 
+/// One eye ray per point of `pts` (from `ray_at`), as one packet when
+/// packets are on.
+#[inline]
+fn eye_rays<I: Intersector>(
+    shader: &Whitted<I>,
+    settings: &RenderSettings,
+    pts: &[(u32, u32)],
+    th: &mut ThreadState<I::Scratch>,
+    out: &mut [Vec3A],
+    ray_at: impl Fn(u32, u32) -> (Ray, f32),
+) {
+    th.counters.eye += pts.len() as u64;
+    let id = |&(px, py): &(u32, u32)| SampleId { px, py, index: 0 };
+    if settings.packets && pts.len() > 1 {
+        let mut rays = [(Ray { o: Vec3A::ZERO, d: Vec3A::Z }, 0.0); LANES];
+        let mut ids = [SampleId { px: 0, py: 0, index: 0 }; LANES];
+        for (i, p) in pts.iter().enumerate() {
+            rays[i] = ray_at(p.0, p.1);
+            ids[i] = id(p);
+        }
+        shader.li_packet(&rays[..pts.len()], &ids[..pts.len()], th, out);
+    } else {
+        for (p, o) in pts.iter().zip(out.iter_mut()) {
+            let (ray, t_min) = ray_at(p.0, p.1);
+            *o = shader.li(ray, t_min, 1, 1.0, id(p), th);
+        }
+    }
+}
+
 /// One pixel: its samples through the filter, weighted by the filter's sign.
+/// With packets on, up to [`LANES`] samples are traced together; the sum
+/// is taken in sample order either way, so the colour is the same.
 #[inline]
 fn pixel<I: Intersector>(
     shader: &Whitted<I>,
@@ -239,13 +289,36 @@ fn pixel<I: Intersector>(
     // The pixel's patterns once; a pinhole camera ignores the lens sample.
     let position = sampler.pattern(px, py, 0);
     let lens = (camera.aperture > 0.0).then(|| sampler.pattern(px, py, 1));
-    for index in 0..sampler.spp {
+    let sample = |index: u32| {
         let (offset, weight) = filter.sample(sampler.sample_of(position, index));
         let lens = lens.map_or(Vec2::ZERO, |p| concentric_disk(sampler.sample_of(p, index)));
-        let (ray, t_min) = camera.ray(px as f32 + 0.5 + offset.x, py as f32 + 0.5 + offset.y, lens);
-        th.counters.eye += 1;
-        sum += weight * shader.li(ray, t_min, 1, 1.0, SampleId { px, py, index }, th);
-        weights += weight;
+        (camera.ray(px as f32 + 0.5 + offset.x, py as f32 + 0.5 + offset.y, lens), weight)
+    };
+    th.counters.eye += u64::from(sampler.spp);
+    if settings.packets && sampler.spp > 1 {
+        let mut rays = [(Ray { o: Vec3A::ZERO, d: Vec3A::Z }, 0.0); LANES];
+        let mut ids = [SampleId { px, py, index: 0 }; LANES];
+        let mut w = [0.0f32; LANES];
+        let mut colors = [Vec3A::ZERO; LANES];
+        for first in (0..sampler.spp).step_by(LANES) {
+            let n = (sampler.spp - first).min(LANES as u32) as usize;
+            for i in 0..n {
+                let index = first + i as u32;
+                (rays[i], w[i]) = sample(index);
+                ids[i].index = index;
+            }
+            shader.li_packet(&rays[..n], &ids[..n], th, &mut colors);
+            for i in 0..n {
+                sum += w[i] * colors[i];
+                weights += w[i];
+            }
+        }
+    } else {
+        for index in 0..sampler.spp {
+            let ((ray, t_min), weight) = sample(index);
+            sum += weight * shader.li(ray, t_min, 1, 1.0, SampleId { px, py, index }, th);
+            weights += weight;
+        }
     }
     if weights > 0.5 {
         sum / weights
@@ -256,16 +329,23 @@ fn pixel<I: Intersector>(
 
 type TileResult = (u32, Vec<Vec3A>, Vec<u64>, Counters);
 
-/// Evaluate `f` at every point of `grid`, tile by tile on all cores; with
-/// `want_cost`, also the traversal work each point took.
+/// Side of the pixel blocks handed to `f` when packets are on: 4x4 fills
+/// one packet of [`LANES`] pixel-centre rays.
+const BLOCK: u32 = 4;
+const _: () = assert!((BLOCK * BLOCK) as usize == LANES);
+
+/// Evaluate `f` at every point of `grid`, tile by tile on all cores, in
+/// blocks of up to 4x4 points (`f` fills one colour per point); with
+/// `want_cost`, one point at a time, recording the traversal work each took.
 fn run_tiles<I: Intersector>(
     grid: &Grid2,
     accel: &I,
     scene: &RenderScene,
     settings: &RenderSettings,
     progress: Progress,
-    f: impl Fn(u32, u32, &mut ThreadState<I::Scratch>) -> Vec3A + Sync,
+    f: impl Fn(&[(u32, u32)], &mut ThreadState<I::Scratch>, &mut [Vec3A]) + Sync,
 ) -> (Vec<Vec3A>, Option<Vec<u64>>, Counters) {
+    let block = if settings.packets && !settings.cost { BLOCK } else { 1 };
     let want_cost = settings.cost;
     let (max_depth, shadow_cache) = (settings.max_depth, settings.shadow_cache);
     let tiles_x = grid.width.div_ceil(TILE);
@@ -284,14 +364,29 @@ fn run_tiles<I: Intersector>(
                 th.shadow_cache.clear();
                 let (tx, ty) = (tile % tiles_x * TILE, tile / tiles_x * TILE);
                 let (x1, y1) = ((tx + TILE).min(grid.width), (ty + TILE).min(grid.height));
-                let mut colors = Vec::with_capacity(((x1 - tx) * (y1 - ty)) as usize);
-                let mut costs = Vec::with_capacity(if want_cost { colors.capacity() } else { 0 });
-                for y in ty..y1 {
-                    for x in tx..x1 {
+                let tw = (x1 - tx) as usize;
+                let mut colors = vec![Vec3A::ZERO; tw * (y1 - ty) as usize];
+                let mut costs = vec![0u64; if want_cost { colors.len() } else { 0 }];
+                let mut pts = [(0u32, 0u32); LANES];
+                let mut out = [Vec3A::ZERO; LANES];
+                for by in (ty..y1).step_by(block as usize) {
+                    for bx in (tx..x1).step_by(block as usize) {
+                        let mut n = 0;
+                        for y in by..(by + block).min(y1) {
+                            for x in bx..(bx + block).min(x1) {
+                                pts[n] = (grid.x0 + x, grid.y0 + y);
+                                n += 1;
+                            }
+                        }
                         let work = th.counters.work();
-                        colors.push(f(grid.x0 + x, grid.y0 + y, th));
-                        if want_cost {
-                            costs.push(th.counters.work() - work);
+                        out[..n].fill(Vec3A::ZERO);
+                        f(&pts[..n], th, &mut out[..n]);
+                        for (&(x, y), &c) in pts[..n].iter().zip(&out[..n]) {
+                            let i = (y - grid.y0 - ty) as usize * tw + (x - grid.x0 - tx) as usize;
+                            colors[i] = c;
+                            if want_cost {
+                                costs[i] = th.counters.work() - work;
+                            }
                         }
                     }
                 }

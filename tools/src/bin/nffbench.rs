@@ -49,6 +49,7 @@ const SCENES: [&str; 2] = ["balls_s4", "mount_s7"];
 
 /// One scene's column.
 struct Column {
+    rates: bench::RayRates,
     eye: f64,
     eye_hits: u64,
     shadow: f64,
@@ -102,6 +103,7 @@ fn measure(name: &str, spd: &Path, a: &Args, threads: usize) -> Result<Column> {
         embree = Some([em(&[])?, em(&["--packet", "8"])?, em(&["--packet", "16"])?, em(&["--shadow"])?]);
     }
     Ok(Column {
+        rates,
         eye: rates.eye,
         eye_hits: rates.eye_hits,
         shadow: rates.shadow,
@@ -138,8 +140,11 @@ fn report(a: &Args) -> Result<String> {
         let _ = writeln!(t, "| {label} | {} |", cells.join(" | "));
     };
     row("eye rays, single, Mrays/s per thread", &|c| format!("{:.2} ({} hit)", c.eye, c.eye_hits));
-    row("eye rays, packets, Mrays/s per thread", &|_| "not implemented".into());
-    row("shadow rays, Mrays/s per thread", &|c| format!("{:.2}", c.shadow));
+    row(&format!("eye rays, packets of 4x4 ({}), Mrays/s per thread", nffkit_tracer::simd::isa()), &|c| {
+        format!("{:.2} ({} hit)", c.rates.eye_packet, c.rates.eye_packet_hits)
+    });
+    row("shadow rays, single, Mrays/s per thread", &|c| format!("{:.2}", c.shadow));
+    row("shadow rays, packets of 16, Mrays/s per thread", &|c| format!("{:.2}", c.rates.shadow_packet));
     for (label, pick) in [("Whitted 1 spp", 0), ("Whitted 16 spp", 1)] {
         row(&format!("{label}, s (Mrays/s per thread)"), &|c| {
             let r = if pick == 0 { c.spp1 } else { c.spp16 };

@@ -14,11 +14,12 @@ mod bvh;
 mod grid;
 
 pub use brute::BruteForce;
-pub use bvh::Bvh;
+pub use bvh::{Bvh, Stacks};
 pub use grid::{Grid, Mailbox};
 
 use crate::geometry::{Geometry, Hit};
 use crate::math::RayQuery;
+use crate::packet::{for_lanes, Mask, PacketHits, RayPacket, LANES, NO_PRIM};
 use crate::stats::Counters;
 use strum::{Display, IntoStaticStr, VariantArray};
 
@@ -52,6 +53,87 @@ pub trait Intersector: Sync {
         scratch: &mut Self::Scratch,
         c: &mut Counters,
     ) -> Option<u32>;
+
+    /// For each active lane of `p`, the nearest bounded hit in `(t_min,
+    /// t_max)` by the rule of [`Intersector::intersect_bounded`], merged
+    /// into `hits`. The default traces lane by lane; the BVH traces the
+    /// packet together.
+    fn intersect_packet_bounded(
+        &self,
+        geom: &Geometry,
+        p: &RayPacket,
+        hits: &mut PacketHits,
+        scratch: &mut Self::Scratch,
+        c: &mut Counters,
+    ) {
+        for_lanes(p.active, |i| {
+            if let Some(h) = self.intersect_bounded(geom, &p.queries[i], p.t_max.0[i], scratch, c) {
+                hits.keep(i, h);
+            }
+        });
+    }
+
+    /// For each lane of `mask` (among `p`'s active ones), a bounded
+    /// primitive blocking it within `(t_min, t_max)`, written to `out`
+    /// (lanes left clear keep their value).
+    fn occluders_packet_bounded(
+        &self,
+        geom: &Geometry,
+        p: &RayPacket,
+        mask: Mask,
+        out: &mut [u32; LANES],
+        scratch: &mut Self::Scratch,
+        c: &mut Counters,
+    ) {
+        for_lanes(mask & p.active, |i| {
+            if let Some(id) = self.occluder_bounded(geom, &p.queries[i], p.t_max.0[i], scratch, c) {
+                out[i] = id;
+            }
+        });
+    }
+
+    /// [`Intersector::intersect`] for every active lane of a packet.
+    #[inline]
+    fn intersect_packet(
+        &self,
+        geom: &Geometry,
+        p: &RayPacket,
+        hits: &mut PacketHits,
+        scratch: &mut Self::Scratch,
+        c: &mut Counters,
+    ) {
+        self.intersect_packet_bounded(geom, p, hits, scratch, c);
+        for id in geom.plane_ids() {
+            for_lanes(p.active, |i| {
+                c.tests[geom.locate(id).0] += 1;
+                hits.test_scalar(geom, id, &p.queries[i], i);
+            });
+        }
+    }
+
+    /// [`Intersector::occluder`] for every active lane of a packet: each
+    /// lane's blocker, or [`NO_PRIM`] when its shadow ray is clear.
+    #[inline]
+    fn occluders_packet(
+        &self,
+        geom: &Geometry,
+        p: &RayPacket,
+        scratch: &mut Self::Scratch,
+        c: &mut Counters,
+    ) -> [u32; LANES] {
+        let mut out = [NO_PRIM; LANES];
+        let mut open = p.active;
+        for id in geom.plane_ids() {
+            for_lanes(open, |i| {
+                if test_shadow(geom, id, &p.queries[i], p.t_max.0[i], c) {
+                    out[i] = id;
+                    open &= !(1 << i);
+                }
+            });
+        }
+        self.occluders_packet_bounded(geom, p, open, &mut out, scratch, c);
+        out
+    }
 
     /// The nearest hit in `(q.t_min, t_max)` over every primitive, planes
     /// included; ties go to the lowest id.

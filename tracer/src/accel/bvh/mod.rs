@@ -4,6 +4,7 @@
 //! one way: `mod → wide → build`.
 
 mod build;
+mod packet;
 mod wide;
 
 pub use wide::Node4;
@@ -11,9 +12,19 @@ pub use wide::Node4;
 use super::{test_prim, test_shadow, AccelInfo, Intersector};
 use crate::geometry::{Geometry, Hit};
 use crate::math::RayQuery;
+use crate::packet::{Mask, PacketHits, RayPacket, LANES};
 use crate::stats::Counters;
+use packet::PacketEntry;
 use std::time::Instant;
 use wide::{Entry, Ray4, STACK};
+
+/// Per-thread traversal stacks, allocated once: one for single rays, one
+/// for packets.
+#[derive(Default)]
+pub struct Stacks {
+    single: Vec<Entry>,
+    packet: Vec<PacketEntry>,
+}
 
 /// The hierarchy: built binary, then collapsed to the 4-wide nodes that
 /// traversal uses (the binary tree is not kept).
@@ -34,6 +45,36 @@ impl Bvh {
         Bvh { wide: Node4::collapse(&binary), prims, build_seconds: t0.elapsed().as_secs_f64() }
     }
 
+    /// [`Intersector::intersect_packet_bounded`] with the kernels built for
+    /// `isa` (which falls back to the portable build where unsupported).
+    pub fn intersect_packet_with(
+        &self,
+        isa: crate::simd::Isa,
+        geom: &Geometry,
+        p: &RayPacket,
+        hits: &mut PacketHits,
+        stacks: &mut Stacks,
+        c: &mut Counters,
+    ) {
+        packet::intersect_packet(isa, self, geom, p, hits, &mut stacks.packet[..STACK], c);
+    }
+
+    /// [`Intersector::occluders_packet_bounded`] with the kernels built for
+    /// `isa`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn occluders_packet_with(
+        &self,
+        isa: crate::simd::Isa,
+        geom: &Geometry,
+        p: &RayPacket,
+        mask: Mask,
+        out: &mut [u32; LANES],
+        stacks: &mut Stacks,
+        c: &mut Counters,
+    ) {
+        packet::occluders_packet(isa, self, geom, p, mask, out, &mut stacks.packet[..STACK], c);
+    }
+
     /// Size and build time.
     pub fn info(&self) -> AccelInfo {
         AccelInfo {
@@ -47,11 +88,34 @@ impl Bvh {
 }
 
 impl Intersector for Bvh {
-    /// The traversal stack, allocated once per thread.
-    type Scratch = Vec<Entry>;
+    /// The traversal stacks, allocated once per thread.
+    type Scratch = Stacks;
 
-    fn scratch(&self, _: &Geometry) -> Vec<Entry> {
-        vec![Entry::default(); STACK]
+    fn scratch(&self, _: &Geometry) -> Stacks {
+        Stacks { single: vec![Entry::default(); STACK], packet: vec![PacketEntry::default(); STACK] }
+    }
+
+    fn intersect_packet_bounded(
+        &self,
+        geom: &Geometry,
+        p: &RayPacket,
+        hits: &mut PacketHits,
+        stacks: &mut Stacks,
+        c: &mut Counters,
+    ) {
+        self.intersect_packet_with(crate::simd::isa(), geom, p, hits, stacks, c);
+    }
+
+    fn occluders_packet_bounded(
+        &self,
+        geom: &Geometry,
+        p: &RayPacket,
+        mask: Mask,
+        out: &mut [u32; LANES],
+        stacks: &mut Stacks,
+        c: &mut Counters,
+    ) {
+        self.occluders_packet_with(crate::simd::isa(), geom, p, mask, out, stacks, c);
     }
 
     #[inline]
@@ -60,7 +124,7 @@ impl Intersector for Bvh {
         geom: &Geometry,
         q: &RayQuery,
         t_max: f32,
-        stack: &mut Vec<Entry>,
+        stacks: &mut Stacks,
         c: &mut Counters,
     ) -> Option<Hit> {
         if self.wide.is_empty() {
@@ -68,7 +132,7 @@ impl Intersector for Bvh {
         }
         let r = Ray4::new(q);
         let mut best: Option<Hit> = None;
-        let stack = &mut stack[..STACK];
+        let stack = &mut stacks.single[..STACK];
         stack[0] = Entry { child: 0, count: 0, t: q.t_min };
         let mut sp = 1;
         while sp > 0 {
@@ -116,14 +180,14 @@ impl Intersector for Bvh {
         geom: &Geometry,
         q: &RayQuery,
         t_max: f32,
-        stack: &mut Vec<Entry>,
+        stacks: &mut Stacks,
         c: &mut Counters,
     ) -> Option<u32> {
         if self.wide.is_empty() {
             return None;
         }
         let r = Ray4::new(q);
-        let stack = &mut stack[..STACK];
+        let stack = &mut stacks.single[..STACK];
         stack[0] = Entry { child: 0, count: 0, t: q.t_min };
         let mut sp = 1;
         while sp > 0 {

@@ -11,6 +11,8 @@
 use super::build::BvhNode;
 use crate::aabb::SLAB_WIDEN;
 use crate::math::RayQuery;
+use crate::packet::{vmin, Mask, RayPacket, LANES};
+use crate::simd::vector::{group_bits, F32s};
 use glam::Vec4;
 
 /// A 4-wide node.
@@ -129,6 +131,50 @@ impl Node4 {
             .min(Vec4::splat(t_max));
         let mask = t_near.cmple(t_far).bitmask();
         (t_near, mask)
+    }
+
+    /// The packet form of [`Node4::hit`], with vectors `V`: per child
+    /// slot, the lanes of `mask` whose rays enter the box before their
+    /// `far` distance, and the nearest entry among them (infinity when
+    /// none). Near and far planes come from min and max of the two slab
+    /// distances, which for the non-empty boxes tested equals choosing them
+    /// by the sign of 1/d.
+    #[inline(always)]
+    pub fn hit_packet<V: F32s>(&self, p: &RayPacket, far: &[f32; LANES], mask: Mask) -> ([Mask; 4], [f32; 4]) {
+        let mut masks = [0; 4];
+        let mut nearest = [f32::INFINITY; 4];
+        let inf = V::splat(f32::INFINITY);
+        for slot in 0..4 {
+            let lo = [self.min[0][slot], self.min[1][slot], self.min[2][slot]];
+            let hi = [self.max[0][slot], self.max[1][slot], self.max[2][slot]];
+            if !(lo[0] <= hi[0]) {
+                continue; // an unused slot
+            }
+            let mut m: Mask = 0;
+            let mut near_min = inf;
+            for g in 0..LANES / V::W {
+                let mut t_near = V::load(&p.t_min.0, g);
+                let mut t_far = inf;
+                for a in 0..3 {
+                    let (o, inv) = (V::load(&p.o[a].0, g), V::load(&p.inv[a].0, g));
+                    let t0 = V::splat(lo[a]).sub(o).mul(inv);
+                    let t1 = V::splat(hi[a]).sub(o).mul(inv);
+                    t_near = t_near.max(t0.min(t1));
+                    t_far = t_far.min(t0.max(t1));
+                }
+                let t_far = t_far.mul(V::splat(SLAB_WIDEN)).min(V::load(far, g));
+                let hit = t_near.le(t_far);
+                m |= group_bits::<V>(hit, g);
+                near_min = near_min.min(V::select(hit, t_near, inf));
+            }
+            masks[slot] = m & mask;
+            if masks[slot] != 0 {
+                let mut lanes = [f32::INFINITY; LANES];
+                near_min.store(&mut lanes, 0);
+                nearest[slot] = lanes[..V::W].iter().fold(f32::INFINITY, |a, &b| vmin(a, b));
+            }
+        }
+        (masks, nearest)
     }
 
     /// Child `slot` as a stack entry.

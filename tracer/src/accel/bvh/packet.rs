@@ -1,0 +1,174 @@
+//! Packet traversal of the 4-wide BVH: the rays of a [`RayPacket`] walk the
+//! tree together, each node's four boxes tested against every lane at once,
+//! and a child is entered by the lanes that hit it (Wald, Slusallek, Benthin
+//! and Wagner, "Interactive Rendering with Coherent Ray Tracing", 2001).
+//! Per-lane nearest distances keep culling exact, so each lane finds the
+//! hit its ray finds alone (the tie rule is applied per lane in
+//! [`crate::packet`]). Compiled per instruction set with
+//! [`dispatch!`](crate::dispatch).
+
+use super::wide::Node4;
+use super::Bvh;
+use crate::geometry::Geometry;
+use crate::packet::{for_lanes, occludes_packet, test_prim_packet, Mask, PacketHits, RayPacket, LANES};
+use crate::simd::vector::{group_bits, F32s};
+use crate::stats::Counters;
+
+/// An entry of the packet traversal stack: a node or a leaf, the lanes that
+/// entered its box, and the nearest of their entry distances.
+#[derive(Clone, Copy, Default)]
+pub struct PacketEntry {
+    child: u32,
+    count: u32,
+    mask: Mask,
+    t: f32,
+}
+
+impl Bvh {
+    /// The leaf's primitive ids.
+    #[inline(always)]
+    fn leaf(&self, e: &PacketEntry) -> &[u32] {
+        &self.prims[e.child as usize..(e.child + e.count) as usize]
+    }
+
+    /// Push the children of `node` hit by some lane of `mask`, the
+    /// farthest first so the nearest is popped next.
+    #[inline(always)]
+    fn push_children(node: &Node4, hit: ([Mask; 4], [f32; 4]), stack: &mut [PacketEntry], sp: &mut usize) {
+        let (masks, near) = hit;
+        let mut order = [0usize; 4];
+        let mut n = 0;
+        for slot in 0..4 {
+            if masks[slot] == 0 {
+                continue;
+            }
+            let mut k = n;
+            while k > 0 && near[order[k - 1]] < near[slot] {
+                order[k] = order[k - 1];
+                k -= 1;
+            }
+            order[k] = slot;
+            n += 1;
+        }
+        for &slot in &order[..n] {
+            let e = node.entry(slot, near[slot]);
+            stack[*sp] = PacketEntry { child: e.child, count: e.count, mask: masks[slot], t: near[slot] };
+            *sp += 1;
+        }
+    }
+}
+
+/// Nearest hits of the packet's lanes among the bounded primitives.
+#[inline(always)]
+fn intersect_body<V: F32s>(
+    bvh: &Bvh,
+    geom: &Geometry,
+    p: &RayPacket,
+    hits: &mut PacketHits,
+    stack: &mut [PacketEntry],
+    c: &mut Counters,
+) {
+    if bvh.wide.is_empty() || p.active == 0 {
+        return;
+    }
+    stack[0] = PacketEntry { child: 0, count: 0, mask: p.active, t: f32::NEG_INFINITY };
+    let mut sp = 1;
+    while sp > 0 {
+        sp -= 1;
+        let e = stack[sp];
+        // Lanes whose best hit is nearer than the box cannot improve in it.
+        let mut keep: Mask = 0;
+        for g in 0..LANES / V::W {
+            keep |= group_bits::<V>(V::splat(e.t).le(V::load(&hits.t.0, g)), g);
+        }
+        let mask = e.mask & keep;
+        if mask == 0 {
+            continue;
+        }
+        if e.count > 0 {
+            for &id in bvh.leaf(&e) {
+                test_prim_packet::<V>(geom, id, p, mask, hits, c);
+            }
+            continue;
+        }
+        c.visits += 1;
+        let node = &bvh.wide[e.child as usize];
+        Bvh::push_children(node, node.hit_packet::<V>(p, &hits.t.0, mask), stack, &mut sp);
+    }
+}
+
+/// Per lane of `mask`, a bounded primitive blocking it (the first found).
+#[inline(always)]
+fn occluders_body<V: F32s>(
+    bvh: &Bvh,
+    geom: &Geometry,
+    p: &RayPacket,
+    mask: Mask,
+    out: &mut [u32; LANES],
+    stack: &mut [PacketEntry],
+    c: &mut Counters,
+) {
+    let mut alive = mask & p.active;
+    if bvh.wide.is_empty() || alive == 0 {
+        return;
+    }
+    stack[0] = PacketEntry { child: 0, count: 0, mask: alive, t: 0.0 };
+    let mut sp = 1;
+    while sp > 0 {
+        sp -= 1;
+        let e = stack[sp];
+        let mut mask = e.mask & alive;
+        if mask == 0 {
+            continue;
+        }
+        if e.count > 0 {
+            for &id in bvh.leaf(&e) {
+                let blocked = occludes_packet::<V>(geom, id, p, mask, c);
+                for_lanes(blocked, |i| out[i] = id);
+                alive &= !blocked;
+                mask &= !blocked;
+                if mask == 0 {
+                    break;
+                }
+            }
+            if alive == 0 {
+                return;
+            }
+            continue;
+        }
+        c.visits += 1;
+        let node = &bvh.wide[e.child as usize];
+        Bvh::push_children(node, node.hit_packet::<V>(p, &p.t_max.0, mask), stack, &mut sp);
+    }
+}
+
+crate::dispatch! {
+    /// [`intersect_body`] compiled for `isa`.
+    pub(super) fn intersect_packet(
+        isa: Isa,
+        bvh: &Bvh,
+        geom: &Geometry,
+        p: &RayPacket,
+        hits: &mut PacketHits,
+        stack: &mut [PacketEntry],
+        c: &mut Counters,
+    ) {
+        intersect_body::<V>(bvh, geom, p, hits, stack, c)
+    }
+}
+
+crate::dispatch! {
+    /// [`occluders_body`] compiled for `isa`.
+    pub(super) fn occluders_packet(
+        isa: Isa,
+        bvh: &Bvh,
+        geom: &Geometry,
+        p: &RayPacket,
+        mask: Mask,
+        out: &mut [u32; LANES],
+        stack: &mut [PacketEntry],
+        c: &mut Counters,
+    ) {
+        occluders_body::<V>(bvh, geom, p, mask, out, stack, c)
+    }
+}

@@ -1,0 +1,392 @@
+//! Ray packets: up to [`LANES`] coherent rays (the samples of one pixel, or
+//! a block of neighbouring pixel centres) traced together, stored as
+//! structure of arrays so one vector instruction serves every lane.
+//!
+//! The lane-wise primitive tests here repeat the single-ray tests of
+//! [`crate::geometry`] operation for operation (the same products and sums
+//! in the same order), so a lane finds bit for bit the hit its ray finds
+//! alone, and the tie rule (nearest, then lowest id) is the same. Where the
+//! single-ray test takes a rare slow path (the triangle test's
+//! double-precision edge case) the lane falls back to it.
+
+use crate::geometry::{Cull, Geometry, Hit, Kind, Sphere, Triangle};
+use crate::math::{Ray, RayQuery};
+use crate::simd::vector::{group_bits, F32s};
+use crate::stats::Counters;
+
+/// Rays in a packet: 16, one AVX-512 register of f32 (two AVX2 ones).
+pub const LANES: usize = 16;
+
+/// One bit per lane (bit `i`: lane `i`).
+pub type Mask = u32;
+
+/// "No primitive" in [`PacketHits::prim`] and occluder lists.
+pub const NO_PRIM: u32 = u32::MAX;
+
+/// Per-lane f32 values, aligned for vector loads.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(C, align(64))]
+pub struct Lanes(pub [f32; LANES]);
+
+/// Up to [`LANES`] rays with the per-ray constants of [`RayQuery`], in
+/// structure-of-arrays form.
+#[derive(Debug, Clone)]
+#[repr(C, align(64))]
+pub struct RayPacket {
+    /// Origins, per axis.
+    pub o: [Lanes; 3],
+    /// Unit directions, per axis.
+    pub d: [Lanes; 3],
+    /// Clamped 1/d, per axis (see [`RayQuery::inv_d`]).
+    pub inv: [Lanes; 3],
+    /// Shear constants of the watertight triangle test (Sx, Sy, Sz).
+    pub shear: [Lanes; 3],
+    /// Smallest accepted distance.
+    pub t_min: Lanes,
+    /// Largest accepted distance (infinity for eye rays, the light's
+    /// distance for shadow rays).
+    pub t_max: Lanes,
+    /// Per axis, the lanes whose 1/d is negative.
+    pub neg: [Mask; 3],
+    /// The lanes holding a ray.
+    pub active: Mask,
+    /// The triangle test's axis permutation when every active lane shares
+    /// it (then triangles are tested lane-wise), else `None`.
+    pub shared_k: Option<[usize; 3]>,
+    /// Each lane's query, for the single-ray tests of the other shapes.
+    pub queries: [RayQuery; LANES],
+}
+
+impl RayPacket {
+    /// A packet of `rays`, each `(ray, t_min, t_max)`; at most [`LANES`].
+    pub fn new(rays: impl IntoIterator<Item = (Ray, f32, f32)>) -> RayPacket {
+        let none = RayQuery::new(Ray { o: glam::Vec3A::ZERO, d: glam::Vec3A::Z }, 0.0);
+        let mut p = RayPacket {
+            o: [Lanes([0.0; LANES]); 3],
+            d: [Lanes([0.0; LANES]); 3],
+            inv: [Lanes([0.0; LANES]); 3],
+            shear: [Lanes([0.0; LANES]); 3],
+            t_min: Lanes([0.0; LANES]),
+            t_max: Lanes([f32::NEG_INFINITY; LANES]),
+            neg: [0; 3],
+            active: 0,
+            shared_k: None,
+            queries: [none; LANES],
+        };
+        for (i, (ray, t_min, t_max)) in rays.into_iter().enumerate().take(LANES) {
+            p.set(i, RayQuery::new(ray, t_min), t_max);
+        }
+        p
+    }
+
+    /// Put query `q` with far limit `t_max` in lane `i`.
+    pub fn set(&mut self, i: usize, q: RayQuery, t_max: f32) {
+        for a in 0..3 {
+            self.o[a].0[i] = q.ray.o[a];
+            self.d[a].0[i] = q.ray.d[a];
+            self.inv[a].0[i] = q.inv_d[a];
+            self.shear[a].0[i] = q.shear[a];
+            let bit = 1 << i;
+            self.neg[a] = if q.neg[a] { self.neg[a] | bit } else { self.neg[a] & !bit };
+        }
+        self.t_min.0[i] = q.t_min;
+        self.t_max.0[i] = t_max;
+        self.shared_k = if self.active == 0 || self.shared_k == Some(q.k) { Some(q.k) } else { None };
+        self.active |= 1 << i;
+        self.queries[i] = q;
+    }
+
+    /// Number of lanes in use (highest active lane + 1).
+    pub fn len(&self) -> usize {
+        (Mask::BITS - self.active.leading_zeros()) as usize
+    }
+
+    /// True when no lane holds a ray.
+    pub fn is_empty(&self) -> bool {
+        self.active == 0
+    }
+}
+
+/// The nearest hit of each lane so far: `t` starts at the lane's `t_max`
+/// with `prim == NO_PRIM`.
+#[derive(Debug, Clone)]
+#[repr(C, align(64))]
+pub struct PacketHits {
+    /// Distance of the best hit, or the lane's `t_max` while there is none.
+    pub t: Lanes,
+    /// Barycentric of vertex 1 (triangles).
+    pub u: Lanes,
+    /// Barycentric of vertex 2 (triangles).
+    pub v: Lanes,
+    /// Primitive of the best hit, or [`NO_PRIM`].
+    pub prim: [u32; LANES],
+}
+
+impl PacketHits {
+    /// No hits yet for the rays of `p`.
+    pub fn new(p: &RayPacket) -> PacketHits {
+        PacketHits { t: p.t_max, u: Lanes([0.0; LANES]), v: Lanes([0.0; LANES]), prim: [NO_PRIM; LANES] }
+    }
+
+    /// Lane `i`'s hit, if any.
+    #[inline]
+    pub fn get(&self, i: usize) -> Option<Hit> {
+        (self.prim[i] != NO_PRIM).then(|| Hit { t: self.t.0[i], prim: self.prim[i], u: self.u.0[i], v: self.v.0[i] })
+    }
+
+    /// Make `h` lane `i`'s hit if it beats the one there.
+    #[inline(always)]
+    pub fn keep(&mut self, i: usize, h: Hit) {
+        if h.beats(&self.get(i)) {
+            self.t.0[i] = h.t;
+            self.prim[i] = h.prim;
+            self.u.0[i] = h.u;
+            self.v.0[i] = h.v;
+        }
+    }
+
+    /// Every lane's [`PacketHits::limit`].
+    #[inline(always)]
+    fn limits(&self, out: &mut [f32; LANES]) {
+        for (i, l) in out.iter_mut().enumerate() {
+            *l = self.limit(i);
+        }
+    }
+
+    /// The single-ray rule of [`crate::accel::test_prim`]: a new hit must
+    /// lie below the best distance, nudged one ulp up once there is a hit so
+    /// that a lower id at equal distance can still win.
+    #[inline(always)]
+    fn limit(&self, i: usize) -> f32 {
+        let t = self.t.0[i];
+        if self.prim[i] == NO_PRIM {
+            t
+        } else {
+            f32::from_bits(t.to_bits().wrapping_add(1))
+        }
+    }
+
+    /// Lane `i`'s single-ray test of primitive `id` (the fallback for
+    /// shapes and cases without a lane-wise test).
+    #[inline(always)]
+    pub fn test_scalar(&mut self, geom: &Geometry, id: u32, q: &RayQuery, i: usize) {
+        if let Some(h) = geom.intersect(id, q, self.limit(i)) {
+            self.keep(i, h);
+        }
+    }
+}
+
+/// `a < b ? a : b`, one `min` instruction.
+#[inline(always)]
+pub(crate) fn vmin(a: f32, b: f32) -> f32 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
+/// The lanes in `mask` that hit primitive `id` within their `(t_min,
+/// limit)` and beat their best hit; updates the hits. Spheres and, when
+/// the lanes share the axis permutation, triangles are tested lane-wise
+/// with vectors `V`; the rest ray by ray.
+#[inline(always)]
+pub fn test_prim_packet<V: F32s>(
+    geom: &Geometry,
+    id: u32,
+    p: &RayPacket,
+    mask: Mask,
+    hits: &mut PacketHits,
+    c: &mut Counters,
+) {
+    let (kind, index) = geom.locate(id);
+    c.tests[kind] += u64::from(mask.count_ones());
+    let cull = if geom.any_cull { geom.info[id as usize].cull } else { Cull::None };
+    match kind {
+        Kind::Sphere => {
+            let mut limit = [0.0f32; LANES];
+            hits.limits(&mut limit);
+            let mut t = [0.0f32; LANES];
+            let found = sphere_lanes::<V>(&geom.spheres[index], p, &limit, cull, &mut t);
+            accept(id, mask & found, &t, hits, None);
+        }
+        Kind::Triangle if p.shared_k.is_some() => {
+            let mut limit = [0.0f32; LANES];
+            hits.limits(&mut limit);
+            let mut out = TriangleLanes::default();
+            triangle_lanes::<V>(&geom.triangles[index], p, &limit, cull, &mut out);
+            accept(id, mask & out.found, &out.t, hits, Some((&out.u, &out.v)));
+            for_lanes(mask & out.slow, |i| hits.test_scalar(geom, id, &p.queries[i], i));
+        }
+        _ => for_lanes(mask, |i| hits.test_scalar(geom, id, &p.queries[i], i)),
+    }
+}
+
+/// The lanes in `mask` that primitive `id` blocks within `(t_min, t_max)`.
+#[inline(always)]
+pub fn occludes_packet<V: F32s>(geom: &Geometry, id: u32, p: &RayPacket, mask: Mask, c: &mut Counters) -> Mask {
+    let (kind, index) = geom.locate(id);
+    c.tests[kind] += u64::from(mask.count_ones());
+    let cull = if geom.any_cull { geom.info[id as usize].cull } else { Cull::None };
+    let scalar = |m: Mask| {
+        let mut blocked = 0;
+        for_lanes(m, |i| {
+            if geom.intersect(id, &p.queries[i], p.t_max.0[i]).is_some() {
+                blocked |= 1 << i;
+            }
+        });
+        blocked
+    };
+    match kind {
+        Kind::Sphere => {
+            let mut t = [0.0f32; LANES];
+            mask & sphere_lanes::<V>(&geom.spheres[index], p, &p.t_max.0, cull, &mut t)
+        }
+        Kind::Triangle if p.shared_k.is_some() => {
+            let mut out = TriangleLanes::default();
+            triangle_lanes::<V>(&geom.triangles[index], p, &p.t_max.0, cull, &mut out);
+            (mask & out.found) | scalar(mask & out.slow)
+        }
+        _ => scalar(mask),
+    }
+}
+
+/// Call `f` with each lane of `mask`, lowest first.
+#[inline(always)]
+pub fn for_lanes(mut mask: Mask, mut f: impl FnMut(usize)) {
+    while mask != 0 {
+        let i = mask.trailing_zeros() as usize;
+        mask &= mask - 1;
+        f(i);
+    }
+}
+
+/// Keep the hits of `found` lanes that beat the lane's best (the rule of
+/// [`Hit::beats`]).
+#[inline(always)]
+fn accept(id: u32, found: Mask, t: &[f32; LANES], hits: &mut PacketHits, uv: Option<(&[f32; LANES], &[f32; LANES])>) {
+    for_lanes(found, |i| {
+        if t[i] < hits.t.0[i] || (t[i] == hits.t.0[i] && id < hits.prim[i]) {
+            hits.t.0[i] = t[i];
+            hits.prim[i] = id;
+            let (u, v) = uv.map_or((0.0, 0.0), |(u, v)| (u[i], v[i]));
+            hits.u.0[i] = u;
+            hits.v.0[i] = v;
+        }
+    });
+}
+
+/// [`crate::geometry::intersect_sphere`] on every lane: the lanes with a
+/// root in `(t_min, limit)`, that root written to `t`.
+#[inline(always)]
+fn sphere_lanes<V: F32s>(s: &Sphere, p: &RayPacket, limit: &[f32; LANES], cull: Cull, t: &mut [f32; LANES]) -> Mask {
+    let (cx, cy, cz) = (V::splat(s.center.x), V::splat(s.center.y), V::splat(s.center.z));
+    let r2 = V::splat(s.radius * s.radius);
+    let zero = V::splat(0.0);
+    let mut found: Mask = 0;
+    for g in 0..LANES / V::W {
+        let (dx, dy, dz) = (V::load(&p.d[0].0, g), V::load(&p.d[1].0, g), V::load(&p.d[2].0, g));
+        let fx = V::load(&p.o[0].0, g).sub(cx);
+        let fy = V::load(&p.o[1].0, g).sub(cy);
+        let fz = V::load(&p.o[2].0, g).sub(cz);
+        let b = fx.mul(dx).add(fy.mul(dy)).add(fz.mul(dz)).neg();
+        let (lx, ly, lz) = (fx.add(b.mul(dx)), fy.add(b.mul(dy)), fz.add(b.mul(dz)));
+        let disc = r2.sub(lx.mul(lx).add(ly.mul(ly)).add(lz.mul(lz)));
+        let cc = fx.mul(fx).add(fy.mul(fy)).add(fz.mul(fz)).sub(r2);
+        let qq = b.add(disc.sqrt().copysign(b));
+        let is_zero = qq.eq(zero);
+        let a0 = V::select(is_zero, zero, cc.div(qq));
+        let a1 = V::select(is_zero, zero, qq);
+        let swap = a1.lt(a0);
+        let (t0, t1) = (V::select(swap, a1, a0), V::select(swap, a0, a1));
+        let (lo, hi) = (V::load(&p.t_min.0, g), V::load(limit, g));
+        let ok0 = V::and(lo.lt(t0), t0.lt(hi));
+        let ok1 = V::and(lo.lt(t1), t1.lt(hi));
+        let (hit, tg) = match cull {
+            Cull::None => (V::or(ok0, ok1), V::select(ok0, t0, t1)),
+            Cull::Back => (ok0, t0),
+            Cull::Front => (ok1, t1),
+        };
+        tg.store(t, g);
+        // disc < 0 misses; a NaN disc gives NaN roots, which `ok` rejects.
+        found |= group_bits::<V>(V::and(hit, zero.le(disc)), g);
+    }
+    found
+}
+
+/// Lane-wise results of [`triangle_lanes`].
+#[derive(Default)]
+struct TriangleLanes {
+    /// Lanes with a hit in `(t_min, limit)`.
+    found: Mask,
+    /// Lanes on an edge in single precision, which need the single-ray
+    /// test's double-precision path.
+    slow: Mask,
+    t: [f32; LANES],
+    u: [f32; LANES],
+    v: [f32; LANES],
+}
+
+/// [`crate::geometry::intersect_triangle`] on every lane, for a packet whose
+/// lanes share the axis permutation.
+#[inline(always)]
+fn triangle_lanes<V: F32s>(tri: &Triangle, p: &RayPacket, limit: &[f32; LANES], cull: Cull, out: &mut TriangleLanes) {
+    let [kx, ky, kz] = p.shared_k.unwrap_or([0, 1, 2]);
+    let vtx = tri.v;
+    let (okx, oky, okz) = (&p.o[kx].0, &p.o[ky].0, &p.o[kz].0);
+    let zero = V::splat(0.0);
+    for g in 0..LANES / V::W {
+        let (ox, oy, oz) = (V::load(okx, g), V::load(oky, g), V::load(okz, g));
+        let (sx, sy, sz) = (V::load(&p.shear[0].0, g), V::load(&p.shear[1].0, g), V::load(&p.shear[2].0, g));
+        let rel = |k: usize, o: V, i: usize| V::splat(vtx[i][k]).sub(o);
+        let (a_x, a_y, a_z) = (rel(kx, ox, 0), rel(ky, oy, 0), rel(kz, oz, 0));
+        let (b_x, b_y, b_z) = (rel(kx, ox, 1), rel(ky, oy, 1), rel(kz, oz, 1));
+        let (c_x, c_y, c_z) = (rel(kx, ox, 2), rel(ky, oy, 2), rel(kz, oz, 2));
+        let (ax, ay) = (a_x.sub(sx.mul(a_z)), a_y.sub(sy.mul(a_z)));
+        let (bx, by) = (b_x.sub(sx.mul(b_z)), b_y.sub(sy.mul(b_z)));
+        let (cx, cy) = (c_x.sub(sx.mul(c_z)), c_y.sub(sy.mul(c_z)));
+        let u = cx.mul(by).sub(cy.mul(bx));
+        let v = ax.mul(cy).sub(ay.mul(cx));
+        let w = bx.mul(ay).sub(by.mul(ax));
+        let edge = V::or(V::or(u.eq(zero), v.eq(zero)), w.eq(zero));
+        let any_neg = V::or(V::or(u.lt(zero), v.lt(zero)), w.lt(zero));
+        let any_pos = V::or(V::or(zero.lt(u), zero.lt(v)), zero.lt(w));
+        let det = u.add(v).add(w);
+        let t = u.mul(sz.mul(a_z)).add(v.mul(sz.mul(b_z))).add(w.mul(sz.mul(c_z))).div(det);
+        let inside = V::and(V::load(&p.t_min.0, g).lt(t), t.lt(V::load(limit, g)));
+        let inv = V::splat(1.0).div(det);
+        t.store(&mut out.t, g);
+        v.mul(inv).store(&mut out.u, g);
+        w.mul(inv).store(&mut out.v, g);
+        // Accepted: inside all edges (or outside all, seen from the back),
+        // det != 0 (NaN t then fails `inside`), not culled, t in range.
+        let facing = match cull {
+            Cull::None => u32::MAX,
+            Cull::Back => !V::bits(det.lt(zero)),
+            Cull::Front => !V::bits(zero.lt(det)),
+        };
+        let nonzero = !V::bits(det.eq(zero));
+        let bits = V::bits(inside) & !V::bits(V::and(any_neg, any_pos)) & nonzero & facing & !V::bits(edge);
+        out.found |= (bits & ((1 << V::W) - 1)) << (g * V::W);
+        out.slow |= group_bits::<V>(edge, g);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3A;
+
+    #[test]
+    fn lanes_and_masks() {
+        let rays = (0..5).map(|i| (Ray::new(Vec3A::new(i as f32, 0.0, 0.0), Vec3A::Z), 0.0, f32::INFINITY));
+        let p = RayPacket::new(rays);
+        assert_eq!((p.active, p.len(), p.shared_k), (0b11111, 5, Some([0, 1, 2])));
+        let mut seen = vec![];
+        for_lanes(0b1010_0001, |i| seen.push(i));
+        assert_eq!(seen, [0, 5, 7]);
+        let mut q = p.clone();
+        q.set(5, RayQuery::new(Ray::new(Vec3A::ZERO, Vec3A::X), 0.0), 1.0);
+        assert_eq!(q.shared_k, None);
+    }
+}

@@ -1,0 +1,389 @@
+//! A vector of f32 lanes as the packet kernels need it, one implementation
+//! per instruction set: [`Avx512`] (16 lanes), [`Avx2`] (8), [`Sse`] (4,
+//! the x86-64 baseline) and [`Scalar4`] (4, plain arrays, for other
+//! targets). The kernels are generic over [`F32s`] and process a packet's
+//! [`LANES`] in `LANES / W` groups.
+//!
+//! Every operation is the IEEE one the scalar code uses (no fused
+//! multiply-add, `max(a, b)` as `a > b ? a : b`), so a lane computes the
+//! bits its ray computes alone.
+//!
+//! The methods call `std::arch` intrinsics in `unsafe` blocks; they are
+//! `#[inline(always)]` and only reached from the functions [`dispatch!`]
+//! compiles for that instruction set after checking the processor has it.
+
+use crate::packet::LANES;
+
+/// Lanes of f32 and their comparison masks.
+pub trait F32s: Copy {
+    /// Lanes per vector.
+    const W: usize;
+    /// A comparison result.
+    type M: Copy;
+    /// Every lane `x`.
+    fn splat(x: f32) -> Self;
+    /// Lanes `g * W ..` of `a`.
+    fn load(a: &[f32; LANES], g: usize) -> Self;
+    /// Store into lanes `g * W ..` of `a`.
+    fn store(self, a: &mut [f32; LANES], g: usize);
+    /// `self + o`.
+    fn add(self, o: Self) -> Self;
+    /// `self - o`.
+    fn sub(self, o: Self) -> Self;
+    /// `self * o`.
+    fn mul(self, o: Self) -> Self;
+    /// `self / o`.
+    fn div(self, o: Self) -> Self;
+    /// `self < o ? self : o`.
+    fn min(self, o: Self) -> Self;
+    /// `self > o ? self : o`.
+    fn max(self, o: Self) -> Self;
+    /// Square root.
+    fn sqrt(self) -> Self;
+    /// The magnitude of `self` with the sign of `s` ([`f32::copysign`]).
+    fn copysign(self, s: Self) -> Self;
+    /// `-self` (the sign bit flipped).
+    fn neg(self) -> Self;
+    /// `self < o`.
+    fn lt(self, o: Self) -> Self::M;
+    /// `self <= o`.
+    fn le(self, o: Self) -> Self::M;
+    /// `self == o`.
+    fn eq(self, o: Self) -> Self::M;
+    /// Both.
+    fn and(a: Self::M, b: Self::M) -> Self::M;
+    /// Either.
+    fn or(a: Self::M, b: Self::M) -> Self::M;
+    /// `m ? a : b` per lane.
+    fn select(m: Self::M, a: Self, b: Self) -> Self;
+    /// One bit per lane, lane 0 lowest.
+    fn bits(m: Self::M) -> u32;
+}
+
+/// The mask bits of group `g` placed at their packet lanes.
+#[inline(always)]
+pub fn group_bits<V: F32s>(m: V::M, g: usize) -> u32 {
+    V::bits(m) << (g * V::W)
+}
+
+/// Four lanes in a plain array: the portable fallback off x86-64.
+#[derive(Clone, Copy)]
+pub struct Scalar4([f32; 4]);
+
+impl Scalar4 {
+    #[inline(always)]
+    fn map2(self, o: Self, f: impl Fn(f32, f32) -> f32) -> Self {
+        Scalar4(std::array::from_fn(|i| f(self.0[i], o.0[i])))
+    }
+
+    #[inline(always)]
+    fn cmp(self, o: Self, f: impl Fn(f32, f32) -> bool) -> [bool; 4] {
+        std::array::from_fn(|i| f(self.0[i], o.0[i]))
+    }
+}
+
+impl F32s for Scalar4 {
+    const W: usize = 4;
+    type M = [bool; 4];
+    #[inline(always)]
+    fn splat(x: f32) -> Self {
+        Scalar4([x; 4])
+    }
+    #[inline(always)]
+    fn load(a: &[f32; LANES], g: usize) -> Self {
+        Scalar4(std::array::from_fn(|i| a[g * 4 + i]))
+    }
+    #[inline(always)]
+    fn store(self, a: &mut [f32; LANES], g: usize) {
+        a[g * 4..g * 4 + 4].copy_from_slice(&self.0);
+    }
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        self.map2(o, |a, b| a + b)
+    }
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        self.map2(o, |a, b| a - b)
+    }
+    #[inline(always)]
+    fn mul(self, o: Self) -> Self {
+        self.map2(o, |a, b| a * b)
+    }
+    #[inline(always)]
+    fn div(self, o: Self) -> Self {
+        self.map2(o, |a, b| a / b)
+    }
+    #[inline(always)]
+    fn min(self, o: Self) -> Self {
+        self.map2(o, |a, b| if a < b { a } else { b })
+    }
+    #[inline(always)]
+    fn max(self, o: Self) -> Self {
+        self.map2(o, |a, b| if a > b { a } else { b })
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        Scalar4(self.0.map(f32::sqrt))
+    }
+    #[inline(always)]
+    fn copysign(self, s: Self) -> Self {
+        self.map2(s, f32::copysign)
+    }
+    #[inline(always)]
+    fn neg(self) -> Self {
+        Scalar4(self.0.map(|a| -a))
+    }
+    #[inline(always)]
+    fn lt(self, o: Self) -> [bool; 4] {
+        self.cmp(o, |a, b| a < b)
+    }
+    #[inline(always)]
+    fn le(self, o: Self) -> [bool; 4] {
+        self.cmp(o, |a, b| a <= b)
+    }
+    #[inline(always)]
+    fn eq(self, o: Self) -> [bool; 4] {
+        self.cmp(o, |a, b| a == b)
+    }
+    #[inline(always)]
+    fn and(a: [bool; 4], b: [bool; 4]) -> [bool; 4] {
+        std::array::from_fn(|i| a[i] && b[i])
+    }
+    #[inline(always)]
+    fn or(a: [bool; 4], b: [bool; 4]) -> [bool; 4] {
+        std::array::from_fn(|i| a[i] || b[i])
+    }
+    #[inline(always)]
+    fn select(m: [bool; 4], a: Self, b: Self) -> Self {
+        Scalar4(std::array::from_fn(|i| if m[i] { a.0[i] } else { b.0[i] }))
+    }
+    #[inline(always)]
+    fn bits(m: [bool; 4]) -> u32 {
+        m.iter().enumerate().fold(0, |acc, (i, &b)| acc | (u32::from(b) << i))
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+pub use x86::{Avx2, Avx512, Sse};
+
+#[cfg(target_arch = "x86_64")]
+#[allow(unsafe_code)]
+mod x86 {
+    use super::F32s;
+    use crate::packet::LANES;
+    use std::arch::x86_64::*;
+
+    /// Generates the shared body of a 128/256-bit implementation, whose
+    /// masks are vectors of all-ones or zero lanes.
+    macro_rules! sse_like {
+        ($name:ident, $v:ty, $w:expr, $set1:ident, $loadu:ident, $storeu:ident, $add:ident, $sub:ident,
+         $mul:ident, $div:ident, $min:ident, $max:ident, $sqrt:ident, $and:ident, $or:ident, $andnot:ident,
+         $xor:ident, $movemask:ident, $blend:expr, $lt:expr, $le:expr, $eq:expr) => {
+            /// See the module doc.
+            #[derive(Clone, Copy)]
+            pub struct $name($v);
+
+            impl F32s for $name {
+                const W: usize = $w;
+                type M = $v;
+                #[inline(always)]
+                fn splat(x: f32) -> Self {
+                    $name(unsafe { $set1(x) })
+                }
+                #[inline(always)]
+                fn load(a: &[f32; LANES], g: usize) -> Self {
+                    let s = &a[g * $w..g * $w + $w];
+                    $name(unsafe { $loadu(s.as_ptr()) })
+                }
+                #[inline(always)]
+                fn store(self, a: &mut [f32; LANES], g: usize) {
+                    let s = &mut a[g * $w..g * $w + $w];
+                    unsafe { $storeu(s.as_mut_ptr(), self.0) }
+                }
+                #[inline(always)]
+                fn add(self, o: Self) -> Self {
+                    $name(unsafe { $add(self.0, o.0) })
+                }
+                #[inline(always)]
+                fn sub(self, o: Self) -> Self {
+                    $name(unsafe { $sub(self.0, o.0) })
+                }
+                #[inline(always)]
+                fn mul(self, o: Self) -> Self {
+                    $name(unsafe { $mul(self.0, o.0) })
+                }
+                #[inline(always)]
+                fn div(self, o: Self) -> Self {
+                    $name(unsafe { $div(self.0, o.0) })
+                }
+                #[inline(always)]
+                fn min(self, o: Self) -> Self {
+                    $name(unsafe { $min(self.0, o.0) })
+                }
+                #[inline(always)]
+                fn max(self, o: Self) -> Self {
+                    $name(unsafe { $max(self.0, o.0) })
+                }
+                #[inline(always)]
+                fn sqrt(self) -> Self {
+                    $name(unsafe { $sqrt(self.0) })
+                }
+                #[inline(always)]
+                fn copysign(self, s: Self) -> Self {
+                    unsafe {
+                        let sign = $set1(-0.0);
+                        $name($or($andnot(sign, self.0), $and(sign, s.0)))
+                    }
+                }
+                #[inline(always)]
+                fn neg(self) -> Self {
+                    $name(unsafe { $xor(self.0, $set1(-0.0)) })
+                }
+                #[inline(always)]
+                fn lt(self, o: Self) -> $v {
+                    unsafe { $lt(self.0, o.0) }
+                }
+                #[inline(always)]
+                fn le(self, o: Self) -> $v {
+                    unsafe { $le(self.0, o.0) }
+                }
+                #[inline(always)]
+                fn eq(self, o: Self) -> $v {
+                    unsafe { $eq(self.0, o.0) }
+                }
+                #[inline(always)]
+                fn and(a: $v, b: $v) -> $v {
+                    unsafe { $and(a, b) }
+                }
+                #[inline(always)]
+                fn or(a: $v, b: $v) -> $v {
+                    unsafe { $or(a, b) }
+                }
+                #[inline(always)]
+                fn select(m: $v, a: Self, b: Self) -> Self {
+                    $name(unsafe { $blend(b.0, a.0, m) })
+                }
+                #[inline(always)]
+                fn bits(m: $v) -> u32 {
+                    unsafe { $movemask(m) as u32 }
+                }
+            }
+        };
+    }
+
+    /// SSE blend without SSE4.1: `(a & !m) | (b & m)`.
+    #[inline(always)]
+    unsafe fn sse_blend(a: __m128, b: __m128, m: __m128) -> __m128 {
+        unsafe { _mm_or_ps(_mm_andnot_ps(m, a), _mm_and_ps(m, b)) }
+    }
+
+    sse_like!(
+        Sse, __m128, 4, _mm_set1_ps, _mm_loadu_ps, _mm_storeu_ps, _mm_add_ps, _mm_sub_ps, _mm_mul_ps,
+        _mm_div_ps, _mm_min_ps, _mm_max_ps, _mm_sqrt_ps, _mm_and_ps, _mm_or_ps, _mm_andnot_ps, _mm_xor_ps,
+        _mm_movemask_ps, sse_blend, _mm_cmplt_ps, _mm_cmple_ps, _mm_cmpeq_ps
+    );
+
+    sse_like!(
+        Avx2, __m256, 8, _mm256_set1_ps, _mm256_loadu_ps, _mm256_storeu_ps, _mm256_add_ps, _mm256_sub_ps,
+        _mm256_mul_ps, _mm256_div_ps, _mm256_min_ps, _mm256_max_ps, _mm256_sqrt_ps, _mm256_and_ps,
+        _mm256_or_ps, _mm256_andnot_ps, _mm256_xor_ps, _mm256_movemask_ps, _mm256_blendv_ps,
+        |a, b| _mm256_cmp_ps::<_CMP_LT_OQ>(a, b),
+        |a, b| _mm256_cmp_ps::<_CMP_LE_OQ>(a, b),
+        |a, b| _mm256_cmp_ps::<_CMP_EQ_OQ>(a, b)
+    );
+
+    /// Sixteen lanes with AVX-512 mask registers.
+    #[derive(Clone, Copy)]
+    pub struct Avx512(__m512);
+
+    impl F32s for Avx512 {
+        const W: usize = 16;
+        type M = __mmask16;
+        #[inline(always)]
+        fn splat(x: f32) -> Self {
+            Avx512(unsafe { _mm512_set1_ps(x) })
+        }
+        #[inline(always)]
+        fn load(a: &[f32; LANES], g: usize) -> Self {
+            let s = &a[g * 16..g * 16 + 16];
+            Avx512(unsafe { _mm512_loadu_ps(s.as_ptr()) })
+        }
+        #[inline(always)]
+        fn store(self, a: &mut [f32; LANES], g: usize) {
+            let s = &mut a[g * 16..g * 16 + 16];
+            unsafe { _mm512_storeu_ps(s.as_mut_ptr(), self.0) }
+        }
+        #[inline(always)]
+        fn add(self, o: Self) -> Self {
+            Avx512(unsafe { _mm512_add_ps(self.0, o.0) })
+        }
+        #[inline(always)]
+        fn sub(self, o: Self) -> Self {
+            Avx512(unsafe { _mm512_sub_ps(self.0, o.0) })
+        }
+        #[inline(always)]
+        fn mul(self, o: Self) -> Self {
+            Avx512(unsafe { _mm512_mul_ps(self.0, o.0) })
+        }
+        #[inline(always)]
+        fn div(self, o: Self) -> Self {
+            Avx512(unsafe { _mm512_div_ps(self.0, o.0) })
+        }
+        #[inline(always)]
+        fn min(self, o: Self) -> Self {
+            Avx512(unsafe { _mm512_min_ps(self.0, o.0) })
+        }
+        #[inline(always)]
+        fn max(self, o: Self) -> Self {
+            Avx512(unsafe { _mm512_max_ps(self.0, o.0) })
+        }
+        #[inline(always)]
+        fn sqrt(self) -> Self {
+            Avx512(unsafe { _mm512_sqrt_ps(self.0) })
+        }
+        #[inline(always)]
+        fn copysign(self, s: Self) -> Self {
+            unsafe {
+                let sign = _mm512_set1_epi32(i32::MIN);
+                let mag = _mm512_andnot_si512(sign, _mm512_castps_si512(self.0));
+                let sg = _mm512_and_si512(sign, _mm512_castps_si512(s.0));
+                Avx512(_mm512_castsi512_ps(_mm512_or_si512(mag, sg)))
+            }
+        }
+        #[inline(always)]
+        fn neg(self) -> Self {
+            unsafe {
+                let sign = _mm512_set1_epi32(i32::MIN);
+                Avx512(_mm512_castsi512_ps(_mm512_xor_si512(sign, _mm512_castps_si512(self.0))))
+            }
+        }
+        #[inline(always)]
+        fn lt(self, o: Self) -> __mmask16 {
+            unsafe { _mm512_cmp_ps_mask::<_CMP_LT_OQ>(self.0, o.0) }
+        }
+        #[inline(always)]
+        fn le(self, o: Self) -> __mmask16 {
+            unsafe { _mm512_cmp_ps_mask::<_CMP_LE_OQ>(self.0, o.0) }
+        }
+        #[inline(always)]
+        fn eq(self, o: Self) -> __mmask16 {
+            unsafe { _mm512_cmp_ps_mask::<_CMP_EQ_OQ>(self.0, o.0) }
+        }
+        #[inline(always)]
+        fn and(a: __mmask16, b: __mmask16) -> __mmask16 {
+            a & b
+        }
+        #[inline(always)]
+        fn or(a: __mmask16, b: __mmask16) -> __mmask16 {
+            a | b
+        }
+        #[inline(always)]
+        fn select(m: __mmask16, a: Self, b: Self) -> Self {
+            Avx512(unsafe { _mm512_mask_blend_ps(m, b.0, a.0) })
+        }
+        #[inline(always)]
+        fn bits(m: __mmask16) -> u32 {
+            u32::from(m)
+        }
+    }
+}
