@@ -150,23 +150,26 @@ impl<I: Intersector> Whitted<'_, I> {
         self.secondary(&sp, color, depth, weight, id, th)
     }
 
-    /// Radiance along eye rays traced as one packet (at most
-    /// [`LANES`]): `rays[i]` is `(ray, t_min)` of sample `ids[i]`, its
-    /// colour goes to `out[i]`. The eye rays and the shadow rays of their
-    /// hits travel as packets; reflected and refracted rays, which scatter,
-    /// are traced one by one. The colours equal those of [`Whitted::li`].
+    /// Radiance along rays traced as one packet (at most [`LANES`]):
+    /// `rays[i]` is `(ray, t_min, weight)` of sample `ids[i]` at path depth
+    /// `depth`; its colour goes to `out[i]`. The rays, the shadow rays of
+    /// their hits toward each light, and each kind of ray they spawn
+    /// (mirror, mirror on total internal reflection, refracted) travel as
+    /// packets. Every lane's colour equals what [`Whitted::li`] gives for
+    /// its ray: the same hits, and the same sums in the same order.
     pub fn li_packet(
         &self,
-        rays: &[(Ray, f32)],
+        rays: &[(Ray, f32, f32)],
+        depth: u32,
         ids: &[SampleId],
         th: &mut ThreadState<I::Scratch>,
         out: &mut [Vec3A],
     ) {
         let scene = self.scene;
         let geom = &scene.geometry;
-        let eye = RayPacket::new(rays.iter().map(|&(ray, t_min)| (ray, t_min, f32::INFINITY)));
-        let mut hits = PacketHits::new(&eye);
-        self.accel.intersect_packet(geom, &eye, &mut hits, &mut th.scratch, &mut th.counters);
+        let packet = RayPacket::new(rays.iter().map(|&(ray, t_min, _)| (ray, t_min, f32::INFINITY)));
+        let mut hits = PacketHits::new(&packet);
+        self.accel.intersect_packet(geom, &packet, &mut hits, &mut th.scratch, &mut th.counters);
         let mut points = [None; LANES];
         let mut color = [Vec3A::ZERO; LANES];
         for (i, o) in out.iter_mut().enumerate().take(rays.len()) {
@@ -174,39 +177,104 @@ impl<I: Intersector> Whitted<'_, I> {
                 *o = scene.background;
                 continue;
             };
-            th.counters.eye_hits += 1;
-            let sp = self.shade_point(&eye.queries[i], &hit);
+            if depth == 1 {
+                th.counters.eye_hits += 1;
+            }
+            let sp = self.shade_point(&packet.queries[i], &hit);
             color[i] = scene.ambient * sp.m.kd * sp.m.color;
             points[i] = Some(sp);
         }
-        let mut light_rays = [None; LANES];
         for k in 0..scene.lights.len() {
-            let mut shadow = RayPacket::new(std::iter::empty());
-            for (i, sp) in points.iter().enumerate() {
-                light_rays[i] = None;
-                let Some(sp) = sp else { continue };
-                let Some(lr) = self.light_ray(sp, k, 1, ids[i], &mut th.counters) else { continue };
-                if !self.cache_blocks(&lr, k, 1, th) {
-                    shadow.set(i, lr.query, lr.max);
-                    light_rays[i] = Some(lr);
-                }
-            }
-            if shadow.is_empty() {
-                continue;
-            }
-            let blockers = self.accel.occluders_packet(geom, &shadow, &mut th.scratch, &mut th.counters);
-            for (i, lr) in light_rays.iter().enumerate() {
-                let (Some(lr), Some(sp)) = (lr, &points[i]) else { continue };
-                match blockers[i] {
-                    NO_PRIM => color[i] += self.direct(sp, k, lr),
-                    id => th.shadow_cache.set(k, 1, id),
+            self.light_packet(k, depth, &points, ids, &mut color, th);
+        }
+        // Spawned rays, gathered per kind so that each kind is one packet.
+        let mut spawned = [[None; LANES]; 3];
+        for (i, sp) in points.iter().enumerate() {
+            if let Some(sp) = sp {
+                let rays_i = self.spawn(sp, depth, rays[i].2, &mut th.counters);
+                for (kind, r) in rays_i.into_iter().enumerate() {
+                    spawned[kind][i] = r;
                 }
             }
         }
+        for kind in &spawned {
+            self.trace_spawned(kind, depth + 1, rays, ids, &mut color, th);
+        }
         for (i, sp) in points.iter().enumerate() {
-            if let Some(sp) = sp {
-                out[i] = self.secondary(sp, color[i], 1, 1.0, ids[i], th);
+            if sp.is_some() {
+                out[i] = color[i];
             }
+        }
+    }
+
+    /// Add light `k` to the lanes of `points` whose shadow rays, traced as
+    /// one packet after the shadow cache had its say, are clear.
+    fn light_packet(
+        &self,
+        k: usize,
+        depth: u32,
+        points: &[Option<ShadePoint>; LANES],
+        ids: &[SampleId],
+        color: &mut [Vec3A; LANES],
+        th: &mut ThreadState<I::Scratch>,
+    ) {
+        let mut shadow = RayPacket::new(std::iter::empty());
+        let mut light_rays = [None; LANES];
+        for (i, sp) in points.iter().enumerate() {
+            let Some(sp) = sp else { continue };
+            let Some(lr) = self.light_ray(sp, k, depth, ids[i], &mut th.counters) else { continue };
+            if !self.cache_blocks(&lr, k, depth, th) {
+                shadow.set(i, lr.query, lr.max);
+                light_rays[i] = Some(lr);
+            }
+        }
+        if shadow.is_empty() {
+            return;
+        }
+        let blockers =
+            self.accel.occluders_packet(&self.scene.geometry, &shadow, &mut th.scratch, &mut th.counters);
+        for (i, lr) in light_rays.iter().enumerate() {
+            let (Some(lr), Some(sp)) = (lr, &points[i]) else { continue };
+            match blockers[i] {
+                NO_PRIM => color[i] += self.direct(sp, k, lr),
+                id => th.shadow_cache.set(k, depth, id),
+            }
+        }
+    }
+
+    /// Trace one kind of spawned ray (`(ray, share)` per lane, or none) at
+    /// `depth`, as a packet when more than one lane has one, adding
+    /// `share × radiance` to the lane's colour.
+    fn trace_spawned(
+        &self,
+        spawned: &[Option<(Ray, f32)>; LANES],
+        depth: u32,
+        parents: &[(Ray, f32, f32)],
+        ids: &[SampleId],
+        color: &mut [Vec3A; LANES],
+        th: &mut ThreadState<I::Scratch>,
+    ) {
+        let mut lanes = [0usize; LANES];
+        let mut rays = [(Ray { o: Vec3A::ZERO, d: Vec3A::Z }, 0.0, 0.0); LANES];
+        let mut sub_ids = [SampleId { px: 0, py: 0, index: 0 }; LANES];
+        let mut n = 0;
+        for (i, s) in spawned.iter().enumerate() {
+            if let Some((ray, share)) = *s {
+                (lanes[n], rays[n], sub_ids[n]) = (i, (ray, 0.0, parents[i].2 * share), ids[i]);
+                n += 1;
+            }
+        }
+        let mut radiance = [Vec3A::ZERO; LANES];
+        if n == 1 {
+            let (ray, _, weight) = rays[0];
+            radiance[0] = self.li(ray, 0.0, depth, weight, sub_ids[0], th);
+        } else if n > 1 {
+            self.li_packet(&rays[..n], depth, &sub_ids[..n], th, &mut radiance);
+        }
+        for j in 0..n {
+            let i = lanes[j];
+            let share = spawned[i].map_or(0.0, |s| s.1);
+            color[i] += share * radiance[j];
         }
     }
 
@@ -233,8 +301,8 @@ impl<I: Intersector> Whitted<'_, I> {
         self.scene.lights[k].intensity * (m.kd * lr.n_dot_l * m.color + Vec3A::splat(spec))
     }
 
-    /// Add the reflected and refracted light at `sp` to `color` (in that
-    /// order), tracing the rays the rule in force spawns.
+    /// Add the reflected and refracted light at `sp` to `color`, tracing
+    /// the rays [`Whitted::spawn`] gives one by one, in their order.
     fn secondary(
         &self,
         sp: &ShadePoint,
@@ -244,8 +312,21 @@ impl<I: Intersector> Whitted<'_, I> {
         id: SampleId,
         th: &mut ThreadState<I::Scratch>,
     ) -> Vec3A {
+        for (ray, share) in self.spawn(sp, depth, weight, &mut th.counters).into_iter().flatten() {
+            color += share * self.li(ray, 0.0, depth + 1, weight * share, id, th);
+        }
+        color
+    }
+
+    /// The rays the rule in force spawns at `sp`, each with the share of
+    /// the colour it carries, in the order their light is added: the
+    /// mirror ray, the mirror ray carrying the transmitted share on total
+    /// internal reflection (plain rule only), the refracted ray. Counts
+    /// them.
+    fn spawn(&self, sp: &ShadePoint, depth: u32, weight: f32, c: &mut Counters) -> [Option<(Ray, f32)>; 3] {
+        let mut out = [None; 3];
         if depth >= self.settings.max_depth {
-            return color;
+            return out;
         }
         let ShadePoint { p, ng, ns, d, entering, m } = *sp;
         let min = self.settings.min_weight;
@@ -256,35 +337,33 @@ impl<I: Intersector> Whitted<'_, I> {
             None
         };
         let tir = m.t > 0.0 && refracted.is_none();
-        let trace_mirror = |share: f32, th: &mut ThreadState<I::Scratch>| {
-            th.counters.reflected += 1;
-            let o = offset_ray_origin(p, ng);
-            share * self.li(Ray { o, d: self.mirror(d, ns, ng) }, 0.0, depth + 1, weight * share, id, th)
+        let mut mirror = |share: f32| {
+            c.reflected += 1;
+            Some((Ray { o: offset_ray_origin(p, ng), d: self.mirror(d, ns, ng) }, share))
         };
         if self.settings.spd_rules {
             // Rules 8 and 9: one reflection ray at any reflector or
             // transmitter, carrying the transmitted share on TIR.
             let share = m.ks + if tir { m.t } else { 0.0 };
             if (m.ks > 0.0 || m.t > 0.0) && weight * share >= min {
-                color += trace_mirror(share, th);
+                out[0] = mirror(share);
             }
         } else {
             if m.ks > 0.0 && weight * m.ks >= min {
-                color += trace_mirror(m.ks, th);
+                out[0] = mirror(m.ks);
             }
             // Total internal reflection: the transmitted share reflects.
             if tir && weight * m.t >= min {
-                color += trace_mirror(m.t, th);
+                out[1] = mirror(m.t);
             }
         }
         if let Some(t) = refracted {
             if weight * m.t >= min {
-                th.counters.refracted += 1;
-                let o = offset_ray_origin(p, -ng);
-                color += m.t * self.li(Ray { o, d: t }, 0.0, depth + 1, weight * m.t, id, th);
+                c.refracted += 1;
+                out[2] = Some((Ray { o: offset_ray_origin(p, -ng), d: t }, m.t));
             }
         }
-        color
+        out
     }
 
     /// The shadow ray toward light `k` ([`shadow_ray`]) when the light

@@ -251,13 +251,14 @@ fn eye_rays<I: Intersector>(
     th.counters.eye += pts.len() as u64;
     let id = |&(px, py): &(u32, u32)| SampleId { px, py, index: 0 };
     if settings.packets && pts.len() > 1 {
-        let mut rays = [(Ray { o: Vec3A::ZERO, d: Vec3A::Z }, 0.0); LANES];
+        let mut rays = [(Ray { o: Vec3A::ZERO, d: Vec3A::Z }, 0.0, 1.0); LANES];
         let mut ids = [SampleId { px: 0, py: 0, index: 0 }; LANES];
         for (i, p) in pts.iter().enumerate() {
-            rays[i] = ray_at(p.0, p.1);
+            let (ray, t_min) = ray_at(p.0, p.1);
+            rays[i] = (ray, t_min, 1.0);
             ids[i] = id(p);
         }
-        shader.li_packet(&rays[..pts.len()], &ids[..pts.len()], th, out);
+        shader.li_packet(&rays[..pts.len()], 1, &ids[..pts.len()], th, out);
     } else {
         for (p, o) in pts.iter().zip(out.iter_mut()) {
             let (ray, t_min) = ray_at(p.0, p.1);
@@ -296,7 +297,7 @@ fn pixel<I: Intersector>(
     };
     th.counters.eye += u64::from(sampler.spp);
     if settings.packets && sampler.spp > 1 {
-        let mut rays = [(Ray { o: Vec3A::ZERO, d: Vec3A::Z }, 0.0); LANES];
+        let mut rays = [(Ray { o: Vec3A::ZERO, d: Vec3A::Z }, 0.0, 1.0); LANES];
         let mut ids = [SampleId { px, py, index: 0 }; LANES];
         let mut w = [0.0f32; LANES];
         let mut colors = [Vec3A::ZERO; LANES];
@@ -304,10 +305,11 @@ fn pixel<I: Intersector>(
             let n = (sampler.spp - first).min(LANES as u32) as usize;
             for i in 0..n {
                 let index = first + i as u32;
-                (rays[i], w[i]) = sample(index);
+                let ((ray, t_min), weight) = sample(index);
+                (rays[i], w[i]) = ((ray, t_min, 1.0), weight);
                 ids[i].index = index;
             }
-            shader.li_packet(&rays[..n], &ids[..n], th, &mut colors);
+            shader.li_packet(&rays[..n], 1, &ids[..n], th, &mut colors);
             for i in 0..n {
                 sum += w[i] * colors[i];
                 weights += w[i];

@@ -56,7 +56,7 @@ impl Bvh {
         stacks: &mut Stacks,
         c: &mut Counters,
     ) {
-        packet::intersect_packet(isa, self, geom, p, hits, &mut stacks.packet[..STACK], c);
+        packet::intersect_packet(isa, self, geom, p, hits, stacks, c);
     }
 
     /// [`Intersector::occluders_packet_bounded`] with the kernels built for
@@ -72,7 +72,7 @@ impl Bvh {
         stacks: &mut Stacks,
         c: &mut Counters,
     ) {
-        packet::occluders_packet(isa, self, geom, p, mask, out, &mut stacks.packet[..STACK], c);
+        packet::occluders_packet(isa, self, geom, p, mask, out, stacks, c);
     }
 
     /// Size and build time.
@@ -130,10 +130,47 @@ impl Intersector for Bvh {
         if self.wide.is_empty() {
             return None;
         }
+        let root = Entry { child: 0, count: 0, t: q.t_min };
+        self.nearest_from(root, geom, q, t_max, None, &mut stacks.single, c)
+    }
+
+    #[inline]
+    fn occluder_bounded(
+        &self,
+        geom: &Geometry,
+        q: &RayQuery,
+        t_max: f32,
+        stacks: &mut Stacks,
+        c: &mut Counters,
+    ) -> Option<u32> {
+        if self.wide.is_empty() {
+            return None;
+        }
+        let root = Entry { child: 0, count: 0, t: q.t_min };
+        self.occluder_from(root, geom, q, t_max, &mut stacks.single, c)
+    }
+}
+
+/// Single-ray traversal from any node or leaf, so a packet whose lanes
+/// have scattered can finish them one by one.
+impl Bvh {
+    /// The nearest hit below `start`, better than `best`, within
+    /// `(q.t_min, t_max)` (the rule of [`Intersector::intersect_bounded`]).
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn nearest_from(
+        &self,
+        start: Entry,
+        geom: &Geometry,
+        q: &RayQuery,
+        t_max: f32,
+        mut best: Option<Hit>,
+        stack: &mut [Entry],
+        c: &mut Counters,
+    ) -> Option<Hit> {
         let r = Ray4::new(q);
-        let mut best: Option<Hit> = None;
-        let stack = &mut stacks.single[..STACK];
-        stack[0] = Entry { child: 0, count: 0, t: q.t_min };
+        let stack = &mut stack[..STACK];
+        stack[0] = start;
         let mut sp = 1;
         while sp > 0 {
             sp -= 1;
@@ -174,21 +211,21 @@ impl Intersector for Bvh {
         best
     }
 
-    #[inline]
-    fn occluder_bounded(
+    /// A primitive below `start` blocking the ray within `(q.t_min,
+    /// t_max)`, the first found.
+    #[inline(always)]
+    pub(crate) fn occluder_from(
         &self,
+        start: Entry,
         geom: &Geometry,
         q: &RayQuery,
         t_max: f32,
-        stacks: &mut Stacks,
+        stack: &mut [Entry],
         c: &mut Counters,
     ) -> Option<u32> {
-        if self.wide.is_empty() {
-            return None;
-        }
         let r = Ray4::new(q);
-        let stack = &mut stacks.single[..STACK];
-        stack[0] = Entry { child: 0, count: 0, t: q.t_min };
+        let stack = &mut stack[..STACK];
+        stack[0] = start;
         let mut sp = 1;
         while sp > 0 {
             sp -= 1;

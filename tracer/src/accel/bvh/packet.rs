@@ -7,12 +7,20 @@
 //! [`crate::packet`]). Compiled per instruction set with
 //! [`dispatch!`](crate::dispatch).
 
-use super::wide::Node4;
-use super::Bvh;
+use super::wide::{Entry, Node4};
+use super::{Bvh, Stacks};
 use crate::geometry::Geometry;
 use crate::packet::{for_lanes, occludes_packet, test_prim_packet, Mask, PacketHits, RayPacket, LANES};
 use crate::simd::vector::{group_bits, F32s};
 use crate::stats::Counters;
+
+/// A node reached by this many lanes or fewer is finished ray by ray
+/// (Benthin, Wald, Woop, Ernst and Mark, "Combining Single and Packet-Ray
+/// Tracing for Arbitrary Ray Distributions on the Intel MIC
+/// Architecture", 2012): vectors over sixteen lanes cost more than a few
+/// single-ray traversals. Measured on balls_s4 and mount_s7 (see the note
+/// in `nffbench`'s module doc).
+const SINGLE_AT_MOST: u32 = 2;
 
 /// An entry of the packet traversal stack: a node or a leaf, the lanes that
 /// entered its box, and the nearest of their entry distances.
@@ -65,12 +73,13 @@ fn intersect_body<V: F32s>(
     geom: &Geometry,
     p: &RayPacket,
     hits: &mut PacketHits,
-    stack: &mut [PacketEntry],
+    stacks: &mut Stacks,
     c: &mut Counters,
 ) {
     if bvh.wide.is_empty() || p.active == 0 {
         return;
     }
+    let Stacks { single, packet: stack } = stacks;
     stack[0] = PacketEntry { child: 0, count: 0, mask: p.active, t: f32::NEG_INFINITY };
     let mut sp = 1;
     while sp > 0 {
@@ -83,6 +92,17 @@ fn intersect_body<V: F32s>(
         }
         let mask = e.mask & keep;
         if mask == 0 {
+            continue;
+        }
+        if mask.count_ones() <= SINGLE_AT_MOST {
+            // Too few lanes left for vectors to pay: finish them alone.
+            for_lanes(mask, |i| {
+                let start = Entry { child: e.child, count: e.count, t: e.t };
+                let (q, t_max) = (&p.queries[i], p.t_max.0[i]);
+                if let Some(h) = bvh.nearest_from(start, geom, q, t_max, hits.get(i), single, c) {
+                    hits.keep(i, h);
+                }
+            });
             continue;
         }
         if e.count > 0 {
@@ -105,13 +125,14 @@ fn occluders_body<V: F32s>(
     p: &RayPacket,
     mask: Mask,
     out: &mut [u32; LANES],
-    stack: &mut [PacketEntry],
+    stacks: &mut Stacks,
     c: &mut Counters,
 ) {
     let mut alive = mask & p.active;
     if bvh.wide.is_empty() || alive == 0 {
         return;
     }
+    let Stacks { single, packet: stack } = stacks;
     stack[0] = PacketEntry { child: 0, count: 0, mask: alive, t: 0.0 };
     let mut sp = 1;
     while sp > 0 {
@@ -119,6 +140,20 @@ fn occluders_body<V: F32s>(
         let e = stack[sp];
         let mut mask = e.mask & alive;
         if mask == 0 {
+            continue;
+        }
+        if mask.count_ones() <= SINGLE_AT_MOST {
+            for_lanes(mask, |i| {
+                let start = Entry { child: e.child, count: e.count, t: e.t };
+                let (q, t_max) = (&p.queries[i], p.t_max.0[i]);
+                if let Some(id) = bvh.occluder_from(start, geom, q, t_max, single, c) {
+                    out[i] = id;
+                    alive &= !(1 << i);
+                }
+            });
+            if alive == 0 {
+                return;
+            }
             continue;
         }
         if e.count > 0 {
@@ -150,10 +185,10 @@ crate::dispatch! {
         geom: &Geometry,
         p: &RayPacket,
         hits: &mut PacketHits,
-        stack: &mut [PacketEntry],
+        stacks: &mut Stacks,
         c: &mut Counters,
     ) {
-        intersect_body::<V>(bvh, geom, p, hits, stack, c)
+        intersect_body::<V>(bvh, geom, p, hits, stacks, c)
     }
 }
 
@@ -166,9 +201,9 @@ crate::dispatch! {
         p: &RayPacket,
         mask: Mask,
         out: &mut [u32; LANES],
-        stack: &mut [PacketEntry],
+        stacks: &mut Stacks,
         c: &mut Counters,
     ) {
-        occluders_body::<V>(bvh, geom, p, mask, out, stack, c)
+        occluders_body::<V>(bvh, geom, p, mask, out, stacks, c)
     }
 }
