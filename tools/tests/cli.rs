@@ -357,3 +357,24 @@ fn check_notes_course_extensions_and_warns_of_a_scene_without_lights() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("expected a number or `spd`"));
 }
+
+#[test]
+fn packets_change_the_speed_not_the_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let shot = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let mut args =
+            vec![spd("mount_s1.nff"), "-o".into(), out.to_str().unwrap().into(), "--spp".into(), "16".into()];
+        args.extend(["--width", "48", "--height", "40", "--light-size", "0.2", "--stats"].map(String::from));
+        args.extend(extra.iter().map(|s| s.to_string()));
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = run(RENDER, &args, None);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        (png(&out), String::from_utf8_lossy(&[o.stdout, o.stderr].concat()).into_owned())
+    };
+    let (with, stats) = shot("p.png", &[]);
+    let (without, stats_off) = shot("s.png", &["--no-packets"]);
+    assert_eq!(with, without);
+    assert!(stats.contains("in packets of 16, kernels for"), "{stats}");
+    assert!(stats_off.contains("packets      off"), "{stats_off}");
+}

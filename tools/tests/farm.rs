@@ -112,7 +112,7 @@ fn tiles_cover_the_image_once_evenly_or_not() {
         for k in 0..n {
             let win = PartSpec::Tile { k, n }.window(w, h).unwrap();
             assert_eq!((win.x0, win.x1), (0, w));
-            assert!(win.y0 % 16 == 0, "tiles are whole bands of 16 rows");
+            assert!(win.y0.is_multiple_of(16), "tiles are whole bands of 16 rows");
             for y in win.y0..win.y1 {
                 covered[y as usize] += 1;
             }

@@ -158,7 +158,7 @@ fn gltf_json(
     let pos_len = bin.len();
     if let Some(ix) = indices {
         bin.extend(ix.iter().flat_map(|i| i.to_le_bytes()));
-        while bin.len() % 4 != 0 {
+        while !bin.len().is_multiple_of(4) {
             bin.push(0);
         }
     }

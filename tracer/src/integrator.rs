@@ -180,7 +180,7 @@ impl<I: Intersector> Whitted<'_, I> {
             if depth == 1 {
                 th.counters.eye_hits += 1;
             }
-            let sp = self.shade_point(&packet.queries[i], &hit);
+            let sp = self.shade_point(&packet.query(i), &hit);
             color[i] = scene.ambient * sp.m.kd * sp.m.color;
             points[i] = Some(sp);
         }
@@ -369,7 +369,14 @@ impl<I: Intersector> Whitted<'_, I> {
     /// The shadow ray toward light `k` ([`shadow_ray`]) when the light
     /// faces the point, counting it.
     #[inline]
-    fn light_ray(&self, sp: &ShadePoint, k: usize, depth: u32, id: SampleId, c: &mut Counters) -> Option<LightRay> {
+    fn light_ray(
+        &self,
+        sp: &ShadePoint,
+        k: usize,
+        depth: u32,
+        id: SampleId,
+        c: &mut Counters,
+    ) -> Option<LightRay> {
         let pos = self.light_position(k, self.scene.lights[k].position, sp.p, depth, id);
         let to_light = pos - sp.p;
         let dist = to_light.length();
@@ -390,7 +397,13 @@ impl<I: Intersector> Whitted<'_, I> {
     /// Whether the shadow cache's primitive for (light, depth) blocks the
     /// ray, counting a cache hit.
     #[inline]
-    fn cache_blocks(&self, lr: &LightRay, light: usize, depth: u32, th: &mut ThreadState<I::Scratch>) -> bool {
+    fn cache_blocks(
+        &self,
+        lr: &LightRay,
+        light: usize,
+        depth: u32,
+        th: &mut ThreadState<I::Scratch>,
+    ) -> bool {
         let Some(id) = th.shadow_cache.get(light, depth) else { return false };
         let blocks = test_shadow(&self.scene.geometry, id, &lr.query, lr.max, &mut th.counters);
         th.counters.shadow_cache_hits += u64::from(blocks);

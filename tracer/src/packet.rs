@@ -53,14 +53,14 @@ pub struct RayPacket {
     /// The triangle test's axis permutation when every active lane shares
     /// it (then triangles are tested lane-wise), else `None`.
     pub shared_k: Option<[usize; 3]>,
-    /// Each lane's query, for the single-ray tests of the other shapes.
-    pub queries: [RayQuery; LANES],
+    /// Each lane's axis permutation of the triangle test (see
+    /// [`RayQuery::k`]), for rebuilding its query.
+    pub k: [[u8; 3]; LANES],
 }
 
 impl RayPacket {
     /// A packet of `rays`, each `(ray, t_min, t_max)`; at most [`LANES`].
     pub fn new(rays: impl IntoIterator<Item = (Ray, f32, f32)>) -> RayPacket {
-        let none = RayQuery::new(Ray { o: glam::Vec3A::ZERO, d: glam::Vec3A::Z }, 0.0);
         let mut p = RayPacket {
             o: [Lanes([0.0; LANES]); 3],
             d: [Lanes([0.0; LANES]); 3],
@@ -71,7 +71,7 @@ impl RayPacket {
             neg: [0; 3],
             active: 0,
             shared_k: None,
-            queries: [none; LANES],
+            k: [[0; 3]; LANES],
         };
         for (i, (ray, t_min, t_max)) in rays.into_iter().enumerate().take(LANES) {
             p.set(i, RayQuery::new(ray, t_min), t_max);
@@ -93,7 +93,22 @@ impl RayPacket {
         self.t_max.0[i] = t_max;
         self.shared_k = if self.active == 0 || self.shared_k == Some(q.k) { Some(q.k) } else { None };
         self.active |= 1 << i;
-        self.queries[i] = q;
+        self.k[i] = q.k.map(|a| a as u8);
+    }
+
+    /// Lane `i`'s ray as a single-ray query (for the shapes and cases
+    /// without a lane-wise test), rebuilt from the lanes bit for bit.
+    #[inline(always)]
+    pub fn query(&self, i: usize) -> RayQuery {
+        let v = |a: &[Lanes; 3]| glam::Vec3A::new(a[0].0[i], a[1].0[i], a[2].0[i]);
+        RayQuery {
+            ray: Ray { o: v(&self.o), d: v(&self.d) },
+            inv_d: v(&self.inv),
+            neg: [0, 1, 2].map(|a| self.neg[a] >> i & 1 != 0),
+            k: self.k[i].map(usize::from),
+            shear: v(&self.shear),
+            t_min: self.t_min.0[i],
+        }
     }
 
     /// Number of lanes in use (highest active lane + 1).
@@ -131,7 +146,12 @@ impl PacketHits {
     /// Lane `i`'s hit, if any.
     #[inline]
     pub fn get(&self, i: usize) -> Option<Hit> {
-        (self.prim[i] != NO_PRIM).then(|| Hit { t: self.t.0[i], prim: self.prim[i], u: self.u.0[i], v: self.v.0[i] })
+        (self.prim[i] != NO_PRIM).then(|| Hit {
+            t: self.t.0[i],
+            prim: self.prim[i],
+            u: self.u.0[i],
+            v: self.v.0[i],
+        })
     }
 
     /// Make `h` lane `i`'s hit if it beats the one there.
@@ -216,22 +236,28 @@ pub fn test_prim_packet<V: F32s>(
             let mut out = TriangleLanes::default();
             triangle_lanes::<V>(&geom.triangles[index], p, &limit, cull, &mut out);
             accept(id, mask & out.found, &out.t, hits, Some((&out.u, &out.v)));
-            for_lanes(mask & out.slow, |i| hits.test_scalar(geom, id, &p.queries[i], i));
+            for_lanes(mask & out.slow, |i| hits.test_scalar(geom, id, &p.query(i), i));
         }
-        _ => for_lanes(mask, |i| hits.test_scalar(geom, id, &p.queries[i], i)),
+        _ => for_lanes(mask, |i| hits.test_scalar(geom, id, &p.query(i), i)),
     }
 }
 
 /// The lanes in `mask` that primitive `id` blocks within `(t_min, t_max)`.
 #[inline(always)]
-pub fn occludes_packet<V: F32s>(geom: &Geometry, id: u32, p: &RayPacket, mask: Mask, c: &mut Counters) -> Mask {
+pub fn occludes_packet<V: F32s>(
+    geom: &Geometry,
+    id: u32,
+    p: &RayPacket,
+    mask: Mask,
+    c: &mut Counters,
+) -> Mask {
     let (kind, index) = geom.locate(id);
     c.tests[kind] += u64::from(mask.count_ones());
     let cull = if geom.any_cull { geom.info[id as usize].cull } else { Cull::None };
     let scalar = |m: Mask| {
         let mut blocked = 0;
         for_lanes(m, |i| {
-            if geom.intersect(id, &p.queries[i], p.t_max.0[i]).is_some() {
+            if geom.intersect(id, &p.query(i), p.t_max.0[i]).is_some() {
                 blocked |= 1 << i;
             }
         });
@@ -264,7 +290,13 @@ pub fn for_lanes(mut mask: Mask, mut f: impl FnMut(usize)) {
 /// Keep the hits of `found` lanes that beat the lane's best (the rule of
 /// [`Hit::beats`]).
 #[inline(always)]
-fn accept(id: u32, found: Mask, t: &[f32; LANES], hits: &mut PacketHits, uv: Option<(&[f32; LANES], &[f32; LANES])>) {
+fn accept(
+    id: u32,
+    found: Mask,
+    t: &[f32; LANES],
+    hits: &mut PacketHits,
+    uv: Option<(&[f32; LANES], &[f32; LANES])>,
+) {
     for_lanes(found, |i| {
         if t[i] < hits.t.0[i] || (t[i] == hits.t.0[i] && id < hits.prim[i]) {
             hits.t.0[i] = t[i];
@@ -279,7 +311,13 @@ fn accept(id: u32, found: Mask, t: &[f32; LANES], hits: &mut PacketHits, uv: Opt
 /// [`crate::geometry::intersect_sphere`] on every lane: the lanes with a
 /// root in `(t_min, limit)`, that root written to `t`.
 #[inline(always)]
-fn sphere_lanes<V: F32s>(s: &Sphere, p: &RayPacket, limit: &[f32; LANES], cull: Cull, t: &mut [f32; LANES]) -> Mask {
+fn sphere_lanes<V: F32s>(
+    s: &Sphere,
+    p: &RayPacket,
+    limit: &[f32; LANES],
+    cull: Cull,
+    t: &mut [f32; LANES],
+) -> Mask {
     let (cx, cy, cz) = (V::splat(s.center.x), V::splat(s.center.y), V::splat(s.center.z));
     let r2 = V::splat(s.radius * s.radius);
     let zero = V::splat(0.0);
@@ -330,7 +368,13 @@ struct TriangleLanes {
 /// [`crate::geometry::intersect_triangle`] on every lane, for a packet whose
 /// lanes share the axis permutation.
 #[inline(always)]
-fn triangle_lanes<V: F32s>(tri: &Triangle, p: &RayPacket, limit: &[f32; LANES], cull: Cull, out: &mut TriangleLanes) {
+fn triangle_lanes<V: F32s>(
+    tri: &Triangle,
+    p: &RayPacket,
+    limit: &[f32; LANES],
+    cull: Cull,
+    out: &mut TriangleLanes,
+) {
     let [kx, ky, kz] = p.shared_k.unwrap_or([0, 1, 2]);
     let vtx = tri.v;
     let (okx, oky, okz) = (&p.o[kx].0, &p.o[ky].0, &p.o[kz].0);

@@ -213,7 +213,7 @@ fn render_with<I: Intersector>(
             if stride > 1 {
                 // Skipped rows stay black; the rest go one by one.
                 for (&(x, y), o) in pts.iter().zip(out.iter_mut()) {
-                    if y % stride == 0 {
+                    if y.is_multiple_of(stride) {
                         *o = pixel(&shader, &filter, settings, x, y, th);
                     }
                 }

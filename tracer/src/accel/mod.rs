@@ -67,7 +67,7 @@ pub trait Intersector: Sync {
         c: &mut Counters,
     ) {
         for_lanes(p.active, |i| {
-            if let Some(h) = self.intersect_bounded(geom, &p.queries[i], p.t_max.0[i], scratch, c) {
+            if let Some(h) = self.intersect_bounded(geom, &p.query(i), p.t_max.0[i], scratch, c) {
                 hits.keep(i, h);
             }
         });
@@ -86,7 +86,7 @@ pub trait Intersector: Sync {
         c: &mut Counters,
     ) {
         for_lanes(mask & p.active, |i| {
-            if let Some(id) = self.occluder_bounded(geom, &p.queries[i], p.t_max.0[i], scratch, c) {
+            if let Some(id) = self.occluder_bounded(geom, &p.query(i), p.t_max.0[i], scratch, c) {
                 out[i] = id;
             }
         });
@@ -106,7 +106,7 @@ pub trait Intersector: Sync {
         for id in geom.plane_ids() {
             for_lanes(p.active, |i| {
                 c.tests[geom.locate(id).0] += 1;
-                hits.test_scalar(geom, id, &p.queries[i], i);
+                hits.test_scalar(geom, id, &p.query(i), i);
             });
         }
     }
@@ -125,7 +125,7 @@ pub trait Intersector: Sync {
         let mut open = p.active;
         for id in geom.plane_ids() {
             for_lanes(open, |i| {
-                if test_shadow(geom, id, &p.queries[i], p.t_max.0[i], c) {
+                if test_shadow(geom, id, &p.query(i), p.t_max.0[i], c) {
                     out[i] = id;
                     open &= !(1 << i);
                 }

@@ -85,16 +85,18 @@ pub fn isa() -> Isa {
 macro_rules! dispatch {
     ($(#[$m:meta])* $vis:vis fn $name:ident($isa:ident: Isa $(, $p:ident: $t:ty)* $(,)?) $(-> $r:ty)? $body:block) => {
         $(#[$m])*
-        #[allow(unsafe_code)]
+        #[allow(unsafe_code, clippy::too_many_arguments)]
         $vis fn $name($isa: $crate::simd::Isa $(, $p: $t)*) $(-> $r)? {
             #[cfg(target_arch = "x86_64")]
             {
+                #[allow(clippy::too_many_arguments)]
                 #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
                 fn avx512($($p: $t),*) $(-> $r)? {
                     #[allow(unused)]
                     type V = $crate::simd::vector::Avx512;
                     $body
                 }
+                #[allow(clippy::too_many_arguments)]
                 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
                 fn avx2($($p: $t),*) $(-> $r)? {
                     #[allow(unused)]

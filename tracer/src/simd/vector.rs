@@ -278,15 +278,50 @@ mod x86 {
     }
 
     sse_like!(
-        Sse, __m128, 4, _mm_set1_ps, _mm_loadu_ps, _mm_storeu_ps, _mm_add_ps, _mm_sub_ps, _mm_mul_ps,
-        _mm_div_ps, _mm_min_ps, _mm_max_ps, _mm_sqrt_ps, _mm_and_ps, _mm_or_ps, _mm_andnot_ps, _mm_xor_ps,
-        _mm_movemask_ps, sse_blend, _mm_cmplt_ps, _mm_cmple_ps, _mm_cmpeq_ps
+        Sse,
+        __m128,
+        4,
+        _mm_set1_ps,
+        _mm_loadu_ps,
+        _mm_storeu_ps,
+        _mm_add_ps,
+        _mm_sub_ps,
+        _mm_mul_ps,
+        _mm_div_ps,
+        _mm_min_ps,
+        _mm_max_ps,
+        _mm_sqrt_ps,
+        _mm_and_ps,
+        _mm_or_ps,
+        _mm_andnot_ps,
+        _mm_xor_ps,
+        _mm_movemask_ps,
+        sse_blend,
+        _mm_cmplt_ps,
+        _mm_cmple_ps,
+        _mm_cmpeq_ps
     );
 
     sse_like!(
-        Avx2, __m256, 8, _mm256_set1_ps, _mm256_loadu_ps, _mm256_storeu_ps, _mm256_add_ps, _mm256_sub_ps,
-        _mm256_mul_ps, _mm256_div_ps, _mm256_min_ps, _mm256_max_ps, _mm256_sqrt_ps, _mm256_and_ps,
-        _mm256_or_ps, _mm256_andnot_ps, _mm256_xor_ps, _mm256_movemask_ps, _mm256_blendv_ps,
+        Avx2,
+        __m256,
+        8,
+        _mm256_set1_ps,
+        _mm256_loadu_ps,
+        _mm256_storeu_ps,
+        _mm256_add_ps,
+        _mm256_sub_ps,
+        _mm256_mul_ps,
+        _mm256_div_ps,
+        _mm256_min_ps,
+        _mm256_max_ps,
+        _mm256_sqrt_ps,
+        _mm256_and_ps,
+        _mm256_or_ps,
+        _mm256_andnot_ps,
+        _mm256_xor_ps,
+        _mm256_movemask_ps,
+        _mm256_blendv_ps,
         |a, b| _mm256_cmp_ps::<_CMP_LT_OQ>(a, b),
         |a, b| _mm256_cmp_ps::<_CMP_LE_OQ>(a, b),
         |a, b| _mm256_cmp_ps::<_CMP_EQ_OQ>(a, b)
@@ -384,6 +419,90 @@ mod x86 {
         #[inline(always)]
         fn bits(m: __mmask16) -> u32 {
             u32::from(m)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every operation of `V`, on awkward values, against [`Scalar4`].
+    fn agrees_with_scalar<V: F32s>() {
+        let special = [0.0, -0.0, 1.0, -1.5, 3.25, 1e30, -1e-30, f32::INFINITY, f32::NEG_INFINITY, f32::NAN];
+        let mut a = [0.0f32; LANES];
+        let mut b = [0.0f32; LANES];
+        for k in 0..special.len() * special.len() / LANES + 1 {
+            for i in 0..LANES {
+                let n = k * LANES + i;
+                a[i] = special[n % special.len()];
+                b[i] = special[(n / special.len() + n) % special.len()];
+            }
+            for g in 0..LANES / V::W {
+                let (x, y) = (V::load(&a, g), V::load(&b, g));
+                type Op<'a> = &'a dyn Fn(f32, f32) -> f32;
+                let ops: [(V, Op); 9] = [
+                    (x.add(y), &|p, q| p + q),
+                    (x.sub(y), &|p, q| p - q),
+                    (x.mul(y), &|p, q| p * q),
+                    (x.div(y), &|p, q| p / q),
+                    (x.min(y), &|p, q| if p < q { p } else { q }),
+                    (x.max(y), &|p, q| if p > q { p } else { q }),
+                    (x.sqrt(), &|p, _| p.sqrt()),
+                    (x.copysign(y), &|p, q| p.copysign(q)),
+                    (x.neg(), &|p, _| -p),
+                ];
+                for (k_op, (v, f)) in ops.iter().enumerate() {
+                    let mut out = [0.0f32; LANES];
+                    v.store(&mut out, g);
+                    for i in 0..V::W {
+                        let (p, q) = (a[g * V::W + i], b[g * V::W + i]);
+                        let want = f(p, q);
+                        assert!(
+                            out[g * V::W + i].to_bits() == want.to_bits()
+                                || (want.is_nan() && out[g * V::W + i].is_nan()),
+                            "op {k_op} on ({p}, {q})"
+                        );
+                    }
+                }
+                let masks = [(V::bits(x.lt(y)), 0), (V::bits(x.le(y)), 1), (V::bits(x.eq(y)), 2)];
+                let sel = V::select(x.lt(y), x, y);
+                let mut s = [0.0f32; LANES];
+                sel.store(&mut s, g);
+                for i in 0..V::W {
+                    let (p, q) = (a[g * V::W + i], b[g * V::W + i]);
+                    let want = [p < q, p <= q, p == q];
+                    for (m, op) in masks {
+                        assert_eq!(m >> i & 1 != 0, want[op], "compare {op} on ({p}, {q})");
+                    }
+                    let w = if p < q { p } else { q };
+                    assert!(s[g * V::W + i].to_bits() == w.to_bits(), "select on ({p}, {q})");
+                    let both = V::bits(V::and(x.lt(y), x.le(y))) >> i & 1 != 0;
+                    let either = V::bits(V::or(x.lt(y), x.eq(y))) >> i & 1 != 0;
+                    assert_eq!((both, either), (p < q, p <= q));
+                }
+            }
+        }
+        assert_eq!(
+            group_bits::<V>(V::splat(1.0).lt(V::splat(2.0)), 1 % (LANES / V::W))
+                >> ((1 % (LANES / V::W)) * V::W)
+                & 1,
+            1
+        );
+    }
+
+    #[test]
+    fn every_vector_type_computes_the_scalar_bits() {
+        agrees_with_scalar::<Scalar4>();
+        #[cfg(target_arch = "x86_64")]
+        {
+            agrees_with_scalar::<Sse>();
+            if crate::simd::Isa::Avx2.supported() {
+                agrees_with_scalar::<Avx2>();
+            }
+            if crate::simd::Isa::Avx512.supported() {
+                agrees_with_scalar::<Avx512>();
+            }
         }
     }
 }

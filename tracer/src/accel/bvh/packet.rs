@@ -98,7 +98,7 @@ fn intersect_body<V: F32s>(
             // Too few lanes left for vectors to pay: finish them alone.
             for_lanes(mask, |i| {
                 let start = Entry { child: e.child, count: e.count, t: e.t };
-                let (q, t_max) = (&p.queries[i], p.t_max.0[i]);
+                let (q, t_max) = (&p.query(i), p.t_max.0[i]);
                 if let Some(h) = bvh.nearest_from(start, geom, q, t_max, hits.get(i), single, c) {
                     hits.keep(i, h);
                 }
@@ -145,7 +145,7 @@ fn occluders_body<V: F32s>(
         if mask.count_ones() <= SINGLE_AT_MOST {
             for_lanes(mask, |i| {
                 let start = Entry { child: e.child, count: e.count, t: e.t };
-                let (q, t_max) = (&p.queries[i], p.t_max.0[i]);
+                let (q, t_max) = (&p.query(i), p.t_max.0[i]);
                 if let Some(id) = bvh.occluder_from(start, geom, q, t_max, single, c) {
                     out[i] = id;
                     alive &= !(1 << i);

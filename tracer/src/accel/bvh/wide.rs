@@ -140,14 +140,19 @@ impl Node4 {
     /// distances, which for the non-empty boxes tested equals choosing them
     /// by the sign of 1/d.
     #[inline(always)]
-    pub fn hit_packet<V: F32s>(&self, p: &RayPacket, far: &[f32; LANES], mask: Mask) -> ([Mask; 4], [f32; 4]) {
+    pub fn hit_packet<V: F32s>(
+        &self,
+        p: &RayPacket,
+        far: &[f32; LANES],
+        mask: Mask,
+    ) -> ([Mask; 4], [f32; 4]) {
         let mut masks = [0; 4];
         let mut nearest = [f32::INFINITY; 4];
         let inf = V::splat(f32::INFINITY);
         for slot in 0..4 {
             let lo = [self.min[0][slot], self.min[1][slot], self.min[2][slot]];
             let hi = [self.max[0][slot], self.max[1][slot], self.max[2][slot]];
-            if !(lo[0] <= hi[0]) {
+            if lo[0].partial_cmp(&hi[0]).is_none_or(|o| o.is_gt()) {
                 continue; // an unused slot
             }
             let mut m: Mask = 0;

@@ -1,0 +1,233 @@
+//! Ray packets find what single rays find: the same nearest hit (bit for
+//! bit, with the same tie rule) and the same occlusion, for every primitive
+//! kind and side rule, with lanes masked off, rays leaving surfaces, and the
+//! kernels of every instruction set this processor has. Renders with
+//! packets equal renders without.
+
+use glam::{DVec3, Vec3A};
+use nffkit_formats::nff::{self, ParseOptions};
+use nffkit_formats::{Primitive, Scene, Shape, SourceLine};
+use nffkit_tracer::accel::{Bvh, Grid, Intersector};
+use nffkit_tracer::geometry::Geometry;
+use nffkit_tracer::integrator::LightShape;
+use nffkit_tracer::material::WhittedMaterial;
+use nffkit_tracer::math::{Ray, RayQuery};
+use nffkit_tracer::packet::{PacketHits, RayPacket, LANES, NO_PRIM};
+use nffkit_tracer::prepare::{build_geometry, prepare, PrepareOptions};
+use nffkit_tracer::render::{render, RenderSettings};
+use nffkit_tracer::sampling::{Sampler, SamplerKind};
+use nffkit_tracer::simd::Isa;
+use nffkit_tracer::stats::Counters;
+use proptest::prelude::*;
+
+/// A random scene of every kind of primitive (spheres, triangles, cones,
+/// patches, planes and boxes), one-sided or not.
+fn random_scene(seed: u64, n: usize, one_sided: bool) -> Geometry {
+    let mut s = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    let mut rnd = move || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut scene = Scene::default();
+    for i in 0..n {
+        let c = DVec3::new(rnd() * 10.0 - 5.0, rnd() * 10.0 - 5.0, rnd() * 10.0 - 5.0);
+        let jitter = |r: &mut dyn FnMut() -> f64| DVec3::new(r(), r(), r()) * 2.0 - 1.0;
+        let shape = match i % 6 {
+            0 | 5 => Shape::Sphere { center: c, radius: if i % 12 == 5 { -0.5 } else { 0.1 + rnd() * 0.8 } },
+            1 => Shape::Polygon { vertices: (0..3).map(|_| c + jitter(&mut rnd)).collect() },
+            2 => Shape::Cone {
+                base: c,
+                base_radius: 0.1 + rnd() * 0.5,
+                apex: c + jitter(&mut rnd),
+                apex_radius: rnd() * 0.3,
+            },
+            3 => Shape::Patch {
+                vertices: vec![c, c + DVec3::X, c + DVec3::new(rnd(), 1.0, rnd())],
+                normals: vec![DVec3::Z, DVec3::new(0.1, 0.0, 1.0), DVec3::new(0.0, 0.2, 1.0)],
+            },
+            _ if i % 24 == 4 => Shape::Plane { points: [c, c + DVec3::X, c + DVec3::new(rnd(), rnd(), 1.0)] },
+            _ => Shape::Box { min: c, max: c + DVec3::new(rnd(), rnd(), rnd()) },
+        };
+        scene.primitives.push(Primitive { shape, material: None, line: SourceLine(0) });
+    }
+    let m = WhittedMaterial { color: Vec3A::ONE, kd: 1.0, ks: 0.0, shine: 1.0, t: 0.0, ior: 1.0 };
+    build_geometry(&scene, &[m], one_sided)
+}
+
+/// Up to sixteen rays: around a common origin and direction (coherent),
+/// or anywhere; some leaving the surface a first ray hit. Lanes not in
+/// `mask` stay empty.
+fn rays(
+    g: &Geometry,
+    bvh: &Bvh,
+    base: ([f32; 3], [f32; 3]),
+    spread: f32,
+    jitter: &[[f32; 6]],
+    mask: u32,
+) -> RayPacket {
+    let mut p = RayPacket::new(std::iter::empty());
+    let mut c = Counters::default();
+    let mut scratch = bvh.scratch(g);
+    for (i, j) in jitter.iter().enumerate().take(LANES) {
+        if mask >> i & 1 == 0 {
+            continue;
+        }
+        let o = Vec3A::from(base.0) + Vec3A::new(j[0], j[1], j[2]) * spread;
+        let d = Vec3A::from(base.1) + Vec3A::new(j[3], j[4], j[5]) * spread * 0.2;
+        if d.length() < 1e-3 {
+            continue;
+        }
+        let mut q = RayQuery::new(Ray::new(o, d), 0.0);
+        if i % 5 == 4 {
+            // Leave the surface this ray hits, as a secondary ray does.
+            if let Some(h) = bvh.intersect(g, &q, f32::INFINITY, &mut scratch, &mut c) {
+                let d2 = Vec3A::new(j[4], j[5], j[3]);
+                if d2.length() > 1e-3 {
+                    q = RayQuery::new(Ray::new(q.ray.at(h.t), d2), 0.0);
+                }
+            }
+        }
+        let t_max = if i % 3 == 0 { f32::INFINITY } else { 1.0 + 8.0 * j[0].abs() };
+        p.set(i, q, t_max);
+    }
+    p
+}
+
+/// Every lane of `p` through `isa`'s kernels and alone: equal hits and
+/// equal occlusion.
+#[allow(clippy::needless_range_loop)]
+fn check(g: &Geometry, bvh: &Bvh, p: &RayPacket, isa: Isa) {
+    let mut scratch = bvh.scratch(g);
+    let mut c = Counters::default();
+    let mut hits = PacketHits::new(p);
+    bvh.intersect_packet_with(isa, g, p, &mut hits, &mut scratch, &mut c);
+    let mut blockers = [NO_PRIM; LANES];
+    bvh.occluders_packet_with(isa, g, p, p.active, &mut blockers, &mut scratch, &mut c);
+    for i in 0..LANES {
+        let q = p.query(i);
+        let t_max = p.t_max.0[i];
+        if p.active >> i & 1 == 0 {
+            assert_eq!((hits.get(i), blockers[i]), (None, NO_PRIM), "masked lane {i} was traced");
+            continue;
+        }
+        let alone = bvh.intersect_bounded(g, &q, t_max, &mut scratch, &mut c);
+        assert_eq!(hits.get(i), alone, "{isa}: lane {i} nearest hit");
+        let blocked = bvh.occluder_bounded(g, &q, t_max, &mut scratch, &mut c).is_some();
+        assert_eq!(blockers[i] != NO_PRIM, blocked, "{isa}: lane {i} occlusion");
+        if blocked {
+            assert!(g.intersect(blockers[i], &q, t_max).is_some(), "{isa}: lane {i} blocker does not block");
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    #[test]
+    fn packets_find_what_single_rays_find(
+        seed in any::<u64>(),
+        n in 1usize..300,
+        one_sided in any::<bool>(),
+        origin in prop::array::uniform3(-8.0f32..8.0),
+        dir in prop::array::uniform3(-1.0f32..1.0),
+        spread in prop::sample::select(vec![0.0f32, 0.05, 0.5, 4.0]),
+        jitter in prop::collection::vec(prop::array::uniform6(-1.0f32..1.0), LANES),
+        mask in any::<u16>(),
+    ) {
+        let g = random_scene(seed, n, one_sided);
+        let bvh = Bvh::build(&g);
+        let p = rays(&g, &bvh, (origin, dir), spread, &jitter, u32::from(mask) | 1);
+        for isa in Isa::available() {
+            check(&g, &bvh, &p, isa);
+        }
+        // With planes: the accelerator-level packet queries against the
+        // single ones, for the BVH and for the default lane-by-lane form.
+        let grid = Grid::build(&g, 2.0, true);
+        let (mut sb, mut sg) = (bvh.scratch(&g), grid.scratch(&g));
+        let mut c = Counters::default();
+        let (mut hb, mut hg) = (PacketHits::new(&p), PacketHits::new(&p));
+        bvh.intersect_packet(&g, &p, &mut hb, &mut sb, &mut c);
+        grid.intersect_packet(&g, &p, &mut hg, &mut sg, &mut c);
+        let ob = bvh.occluders_packet(&g, &p, &mut sb, &mut c);
+        let og = grid.occluders_packet(&g, &p, &mut sg, &mut c);
+        for i in (0..LANES).filter(|i| p.active >> i & 1 != 0) {
+            let (q, t_max) = (p.query(i), p.t_max.0[i]);
+            let alone = bvh.intersect(&g, &q, t_max, &mut sb, &mut c);
+            prop_assert_eq!(hb.get(i), alone);
+            prop_assert_eq!(hg.get(i), alone);
+            let blocked = bvh.occluded(&g, &q, t_max, &mut sb, &mut c);
+            prop_assert_eq!(ob[i] != NO_PRIM, blocked);
+            prop_assert_eq!(og[i] != NO_PRIM, blocked);
+        }
+    }
+}
+
+#[test]
+fn the_kernels_of_every_instruction_set_agree_with_the_portable_ones() {
+    // Coherent packets over a dense scene, where the lane-wise sphere and
+    // triangle tests (not the single-ray fallbacks) do the work.
+    let g = random_scene(11, 3000, false);
+    let bvh = Bvh::build(&g);
+    let available = Isa::available();
+    assert!(available.contains(&Isa::Portable));
+    let mut lanes_tested = 0;
+    for k in 0..200 {
+        let a = k as f32 * 0.61;
+        let jitter: Vec<[f32; 6]> = (0..LANES)
+            .map(|i| {
+                let (x, y) = ((i % 4) as f32 / 3.0 - 0.5, (i / 4) as f32 / 3.0 - 0.5);
+                [x, y, 0.0, x, y, 0.0]
+            })
+            .collect();
+        let base = ([a.sin() * 9.0, a.cos() * 9.0, (a * 0.3).sin() * 3.0], [-a.sin(), -a.cos(), 0.1]);
+        let p = rays(&g, &bvh, base, 0.3, &jitter, 0xffff);
+        let mut scratch = bvh.scratch(&g);
+        let mut c = Counters::default();
+        let mut portable = PacketHits::new(&p);
+        bvh.intersect_packet_with(Isa::Portable, &g, &p, &mut portable, &mut scratch, &mut c);
+        for &isa in &available {
+            let mut hits = PacketHits::new(&p);
+            bvh.intersect_packet_with(isa, &g, &p, &mut hits, &mut scratch, &mut c);
+            for i in 0..LANES {
+                assert_eq!(hits.get(i), portable.get(i), "{isa} lane {i} of packet {k}");
+            }
+            check(&g, &bvh, &p, isa);
+        }
+        lanes_tested += portable.prim.iter().filter(|&&id| id != NO_PRIM).count();
+    }
+    assert!(lanes_tested > 500, "too few hits to compare: {lanes_tested}");
+}
+
+fn image(scene: &str, spp: u32, packets: bool, depth: u32) -> Vec<f32> {
+    let path = format!("{}/../scenes/spd/{scene}.nff", env!("CARGO_MANIFEST_DIR"));
+    let src = std::fs::read(path).unwrap();
+    let scene = nff::parse(&src, &ParseOptions::default()).unwrap().scene;
+    let opts = PrepareOptions { width: Some(40), height: Some(36), ..Default::default() };
+    let p = prepare(&scene, &opts).unwrap();
+    let settings = RenderSettings {
+        sampler: Sampler::new(SamplerKind::MultiJittered, spp, 3).0,
+        centre_single_sample: true,
+        light_size: if spp > 4 { 0.3 } else { 0.0 },
+        light_shape: LightShape::Square,
+        max_depth: depth,
+        packets,
+        ..Default::default()
+    };
+    render(&p, &settings, &|_, _| {}).film.pixels.iter().flat_map(|p| p.to_array()).collect()
+}
+
+#[test]
+fn renders_with_packets_equal_renders_without() {
+    // Pixel centres in 4x4 blocks (1 spp), a pixel's samples (4, 16, and
+    // 20: a full packet and a partial one), soft shadows, glass and mirrors.
+    for (scene, spp) in
+        [("balls_s2", 1), ("mount_s1", 16), ("balls_s1", 4), ("teapot_s1", 20), ("gears_s1", 16)]
+    {
+        let with = image(scene, spp, true, 6);
+        let without = image(scene, spp, false, 6);
+        assert!(with.iter().any(|&v| v > 0.0), "{scene}: black image");
+        assert_eq!(with, without, "{scene} at {spp} spp");
+    }
+}
