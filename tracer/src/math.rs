@@ -1,6 +1,6 @@
 //! Rays and the small vector helpers the tracer shares.
 
-use glam::Vec3A;
+use glam::{Vec3A, Vec3Swizzles};
 
 /// A ray with unit direction; `t` along it is a distance.
 #[derive(Debug, Clone, Copy)]
@@ -60,12 +60,18 @@ impl RayQuery {
         } else {
             2
         };
-        let mut kx = (kz + 1) % 3;
-        let mut ky = (kx + 1) % 3;
-        if d[kz] < 0.0 {
-            std::mem::swap(&mut kx, &mut ky);
-        }
-        let shear = Vec3A::new(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]);
+        // The permutation, and d permuted by it with swizzles (indexing a
+        // vector by a variable goes through memory); then one vector
+        // division gives the three shear constants.
+        let ((kx, ky), p) = match (kz, d[kz] < 0.0) {
+            (0, false) => ((1, 2), d.yzx()),
+            (0, true) => ((2, 1), d.zyx()),
+            (1, false) => ((2, 0), d.zxy()),
+            (1, true) => ((0, 2), d.xzy()),
+            (_, false) => ((0, 1), d),
+            (_, true) => ((1, 0), d.yxz()),
+        };
+        let shear = Vec3A::new(p.x, p.y, 1.0) / Vec3A::splat(p.z);
         RayQuery {
             ray,
             inv_d,
