@@ -2,7 +2,9 @@
 //! spent and prints markdown tables:
 //!
 //! - per-thread eye-ray and shadow-ray throughput (one thread, pixel-centre
-//!   eye rays, the same rays `embree-rays` traces), and whole Whitted renders
+//!   eye rays, the same rays `embree-rays` traces), one by one and as 16-ray
+//!   packets (4x4 pixels; shadow rays per block and light, as the renderer
+//!   packs them), and whole Whitted renders
 //!   at 1 and 16 spp on all threads, on balls_s4 and mount_s7 (the scenes of
 //!   the SPD and of the P3D report's Table 1);
 //! - reading, building and rendering the sphereflake at level 6 (597,871
@@ -20,7 +22,7 @@ use nffkit_formats::nff::{self, ParseOptions};
 use nffkit_formats::Scene;
 use nffkit_tracer::accel::Intersector;
 use nffkit_tracer::math::{shadow_ray, RayQuery};
-use nffkit_tracer::packet::{PacketHits, RayPacket, LANES, NO_PRIM};
+use nffkit_tracer::packet::{PacketHits, RayPacket, NO_PRIM};
 use nffkit_tracer::prepare::{prepare, PrepareOptions, RenderScene};
 use nffkit_tracer::render::render;
 use nffkit_tracer::stats::Counters;
@@ -85,29 +87,8 @@ fn rates_with<I: Intersector>(scene: &RenderScene, accel: &I, runs: u32) -> RayR
         }));
     });
     // The shadow rays the shader would trace from each hit (shading normal
-    // facing the light), built once and then timed alone.
-    let mut shadow = Vec::new();
-    for (q, hit) in &hits {
-        let s = geom.surface(hit, q);
-        let n = if s.ng.dot(q.ray.d) < 0.0 { s.ng } else { -s.ng };
-        for light in &scene.lights {
-            let l = light.position - s.p;
-            if n.dot(l) <= 0.0 {
-                continue;
-            }
-            if let Some((ray, max)) = shadow_ray(s.p, light.position, n) {
-                shadow.push((RayQuery::new(ray, 0.0), max));
-            }
-        }
-    }
-    let mut blocked = 0;
-    let shadow_s = best_of(runs, || {
-        blocked =
-            shadow.iter().filter(|(q, max)| accel.occluded(geom, q, *max, &mut scratch, &mut c)).count();
-    });
-    std::hint::black_box(blocked);
-    // The same eye rays as packets of 4x4 neighbouring pixels, and the same
-    // shadow rays sixteen at a time (neighbours in pixel order).
+    // facing the light), built once and then timed alone: one by one, and
+    // as the renderer packs them, per 4x4 block of pixels and per light.
     let blocks: Vec<RayPacket> = (0..h.div_ceil(4))
         .flat_map(|by| (0..w.div_ceil(4)).map(move |bx| (bx * 4, by * 4)))
         .map(|(x0, y0)| {
@@ -118,6 +99,39 @@ fn rates_with<I: Intersector>(scene: &RenderScene, accel: &I, runs: u32) -> RayR
             }))
         })
         .collect();
+    let mut shadow = Vec::new();
+    let mut shadow_packets = Vec::new();
+    for p in &blocks {
+        let mut block_hits = PacketHits::new(p);
+        accel.intersect_packet(geom, p, &mut block_hits, &mut scratch, &mut c);
+        for light in &scene.lights {
+            let mut packet = RayPacket::new(std::iter::empty());
+            for i in 0..p.len() {
+                let Some(hit) = block_hits.get(i) else { continue };
+                let q = p.query(i);
+                let s = geom.surface(&hit, &q);
+                let n = if s.ng.dot(q.ray.d) < 0.0 { s.ng } else { -s.ng };
+                if n.dot(light.position - s.p) <= 0.0 {
+                    continue;
+                }
+                if let Some((ray, max)) = shadow_ray(s.p, light.position, n) {
+                    let sq = RayQuery::new(ray, 0.0);
+                    shadow.push((sq, max));
+                    packet.set(i, sq, max);
+                }
+            }
+            if !packet.is_empty() {
+                shadow_packets.push(packet);
+            }
+        }
+    }
+    let mut blocked = 0;
+    let shadow_s = best_of(runs, || {
+        blocked =
+            shadow.iter().filter(|(q, max)| accel.occluded(geom, q, *max, &mut scratch, &mut c)).count();
+    });
+    std::hint::black_box(blocked);
+    // The same eye rays as packets of 4x4 neighbouring pixels.
     let mut packet_hits = 0;
     let eye_packet_s = best_of(runs, || {
         packet_hits = 0;
@@ -127,8 +141,6 @@ fn rates_with<I: Intersector>(scene: &RenderScene, accel: &I, runs: u32) -> RayR
             packet_hits += hits.prim.iter().filter(|&&id| id != NO_PRIM).count() as u64;
         }
     });
-    let shadow_packets: Vec<RayPacket> =
-        shadow.chunks(LANES).map(|ch| RayPacket::new(ch.iter().map(|(q, max)| (q.ray, 0.0, *max)))).collect();
     let shadow_packet_s = best_of(runs, || {
         blocked = 0;
         for p in &shadow_packets {

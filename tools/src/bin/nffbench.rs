@@ -57,6 +57,8 @@ struct Column {
     spp16: bench::RenderTiming,
     pov1: Option<(f64, f64)>,
     pov16: Option<(f64, f64)>,
+    /// 16 spp with our `--min-weight 0.0039`, POV-Ray's `adc_bailout`.
+    pov16_pruned: Option<(f64, f64)>,
     embree: Option<[Option<f64>; 4]>,
 }
 
@@ -74,12 +76,12 @@ fn measure(name: &str, spd: &Path, a: &Args, threads: usize) -> Result<Column> {
     eprintln!("{name}: Whitted renders on {threads} threads");
     let spp1 = render_timing(&scene, &base, a.runs)?;
     let spp16 = render_timing(&scene, &[&base[..], &["--spp", "16"]].concat(), a.runs)?;
-    let (mut pov1, mut pov16, mut embree) = (None, None, None);
+    let (mut pov1, mut pov16, mut pov16_pruned, mut embree) = (None, None, None, None);
     if let Some(shared) = &a.shared {
         let render = std::env::current_exe()?.with_file_name("render");
         let render = render.to_str().context("the render binary's path is not UTF-8")?;
-        let pov = |aa: bool| -> Result<(f64, f64)> {
-            eprintln!("{name}: POV-Ray{}", if aa { " --aa" } else { "" });
+        let pov = |aa: bool, extra: &[&str]| -> Result<(f64, f64)> {
+            eprintln!("{name}: POV-Ray{} {}", if aa { " --aa" } else { "" }, extra.join(" "));
             let mut args = vec!["--scene", name, "--size", &size, "--runs", "3"];
             if aa {
                 args.push("--aa");
@@ -88,13 +90,15 @@ fn measure(name: &str, spd: &Path, a: &Args, threads: usize) -> Result<Column> {
             if aa {
                 args.extend(["--spp", "16"]);
             }
+            args.extend(extra);
             let out = capture(&shared.join("bench/vs-povray"), &args)?;
             let t = number_after(&out, "povray  median").context("no POV-Ray time")?;
             let ours = number_after(&out, "ours    median").context("no time of ours")?;
             Ok((t, ours))
         };
-        pov1 = Some(pov(false)?);
-        pov16 = Some(pov(true)?);
+        pov1 = Some(pov(false, &[])?);
+        pov16 = Some(pov(true, &[])?);
+        pov16_pruned = Some(pov(true, &["--min-weight", "0.0039"])?);
         let em = |extra: &[&str]| -> Result<Option<f64>> {
             eprintln!("{name}: Embree {}", extra.join(" "));
             let args = [&[name, "--width", &size, "--height", &size, "--threads", "1"][..], extra].concat();
@@ -111,6 +115,7 @@ fn measure(name: &str, spd: &Path, a: &Args, threads: usize) -> Result<Column> {
         spp16,
         pov1,
         pov16,
+        pov16_pruned,
         embree,
     })
 }
@@ -161,12 +166,24 @@ fn report(a: &Args) -> Result<String> {
         for (k, label) in labels.iter().enumerate() {
             row(label, &|c| c.embree.and_then(|e| e[k]).map_or("-".into(), |v| format!("{v:.2}")));
         }
-        row("eye rays: ours / Embree single", &|c| {
+        row("eye rays: our single / Embree single", &|c| {
             c.embree.and_then(|e| e[0]).map_or("-".into(), |v| format!("{:.2}x", c.eye / v))
         });
-        for (label, pick) in [("POV-Ray 1 spp, whole process", 0), ("POV-Ray 16 spp (--aa)", 1)] {
+        row("eye rays: our packets / Embree single", &|c| {
+            c.embree.and_then(|e| e[0]).map_or("-".into(), |v| format!("{:.2}x", c.rates.eye_packet / v))
+        });
+        row("eye rays: our packets / Embree's best packets", &|c| {
+            let best = c.embree.and_then(|e| e[1].into_iter().chain(e[2]).reduce(f64::max));
+            best.map_or("-".into(), |v| format!("{:.2}x", c.rates.eye_packet / v))
+        });
+        let pov_rows = [
+            ("POV-Ray 1 spp, whole process", 0),
+            ("POV-Ray 16 spp (--aa)", 1),
+            ("POV-Ray 16 spp, ours with --min-weight 0.0039 (its adc_bailout)", 2),
+        ];
+        for (label, pick) in pov_rows {
             row(&format!("{label}: POV-Ray s / ours s = speedup"), &|c| {
-                (if pick == 0 { c.pov1 } else { c.pov16 })
+                [c.pov1, c.pov16, c.pov16_pruned][pick]
                     .map_or("-".into(), |(p, o)| format!("{p:.3} / {o:.3} = {:.2}x", p / o))
             });
         }
