@@ -207,6 +207,9 @@ pub fn flake_process(path: &Path) -> Result<FlakeProcess> {
     let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
     let scene = nff::parse(&bytes, &ParseOptions::default()).map_err(|e| anyhow::anyhow!("{e}"))?.scene;
     let parse = t0.elapsed().as_secs_f64();
+    // As `render` does: the file's bytes are not kept past reading.
+    let len = bytes.len();
+    drop(bytes);
     let t1 = Instant::now();
     let prepared = prepare(&scene, &PrepareOptions::default())?;
     let build = t1.elapsed().as_secs_f64();
@@ -214,7 +217,7 @@ pub fn flake_process(path: &Path) -> Result<FlakeProcess> {
     let t2 = Instant::now();
     render(&prepared, &config.settings, &|_, _| {});
     let render = t2.elapsed().as_secs_f64();
-    Ok(FlakeProcess { bytes: bytes.len(), parse, build, render, peak: peak_memory() })
+    Ok(FlakeProcess { bytes: len, parse, build, render, peak: peak_memory() })
 }
 
 /// Peak resident set of this process (VmHWM), bytes.

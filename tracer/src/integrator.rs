@@ -184,8 +184,10 @@ impl<I: Intersector> Whitted<'_, I> {
             color[i] = scene.ambient * sp.m.kd * sp.m.color;
             points[i] = Some(sp);
         }
+        let mut shadow = RayPacket::new(std::iter::empty());
         for k in 0..scene.lights.len() {
-            self.light_packet(k, depth, &points, ids, &mut color, th);
+            shadow.clear();
+            self.light_packet(k, depth, &points, ids, &mut color, &mut shadow, th);
         }
         // Spawned rays, gathered per kind so that each kind is one packet.
         let mut spawned = [[None; LANES]; 3];
@@ -208,7 +210,9 @@ impl<I: Intersector> Whitted<'_, I> {
     }
 
     /// Add light `k` to the lanes of `points` whose shadow rays, traced as
-    /// one packet after the shadow cache had its say, are clear.
+    /// one packet (in `shadow`, empty on entry) after the shadow cache had
+    /// its say, are clear.
+    #[allow(clippy::too_many_arguments)]
     fn light_packet(
         &self,
         k: usize,
@@ -216,9 +220,9 @@ impl<I: Intersector> Whitted<'_, I> {
         points: &[Option<ShadePoint>; LANES],
         ids: &[SampleId],
         color: &mut [Vec3A; LANES],
+        shadow: &mut RayPacket,
         th: &mut ThreadState<I::Scratch>,
     ) {
-        let mut shadow = RayPacket::new(std::iter::empty());
         let mut light_rays = [None; LANES];
         for (i, sp) in points.iter().enumerate() {
             let Some(sp) = sp else { continue };
@@ -232,7 +236,7 @@ impl<I: Intersector> Whitted<'_, I> {
             return;
         }
         let blockers =
-            self.accel.occluders_packet(&self.scene.geometry, &shadow, &mut th.scratch, &mut th.counters);
+            self.accel.occluders_packet(&self.scene.geometry, shadow, &mut th.scratch, &mut th.counters);
         for (i, lr) in light_rays.iter().enumerate() {
             let (Some(lr), Some(sp)) = (lr, &points[i]) else { continue };
             match blockers[i] {

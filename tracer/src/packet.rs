@@ -11,7 +11,7 @@
 
 use crate::geometry::{Cull, Geometry, Hit, Kind, Sphere, Triangle};
 use crate::math::{Ray, RayQuery};
-use crate::simd::vector::{group_bits, F32s};
+use crate::simd::vector::{group_active, group_bits, F32s};
 use crate::stats::Counters;
 
 /// Rays in a packet: 16, one AVX-512 register of f32 (two AVX2 ones).
@@ -109,6 +109,14 @@ impl RayPacket {
             shear: v(&self.shear),
             t_min: self.t_min.0[i],
         }
+    }
+
+    /// Empty every lane, for reuse (the lanes' old values stay, unread:
+    /// every kernel looks only at active lanes' results).
+    pub fn clear(&mut self) {
+        self.active = 0;
+        self.neg = [0; 3];
+        self.shared_k = None;
     }
 
     /// Number of lanes in use (highest active lane + 1).
@@ -227,14 +235,14 @@ pub fn test_prim_packet<V: F32s>(
             let mut limit = [0.0f32; LANES];
             hits.limits(&mut limit);
             let mut t = [0.0f32; LANES];
-            let found = sphere_lanes::<V>(&geom.spheres[index], p, &limit, cull, &mut t);
+            let found = sphere_lanes::<V>(&geom.spheres[index], p, mask, &limit, cull, &mut t);
             accept(id, mask & found, &t, hits, None);
         }
         Kind::Triangle if p.shared_k.is_some() => {
             let mut limit = [0.0f32; LANES];
             hits.limits(&mut limit);
             let mut out = TriangleLanes::default();
-            triangle_lanes::<V>(&geom.triangles[index], p, &limit, cull, &mut out);
+            triangle_lanes::<V>(&geom.triangles[index], p, mask, &limit, cull, &mut out);
             accept(id, mask & out.found, &out.t, hits, Some((&out.u, &out.v)));
             for_lanes(mask & out.slow, |i| hits.test_scalar(geom, id, &p.query(i), i));
         }
@@ -266,11 +274,11 @@ pub fn occludes_packet<V: F32s>(
     match kind {
         Kind::Sphere => {
             let mut t = [0.0f32; LANES];
-            mask & sphere_lanes::<V>(&geom.spheres[index], p, &p.t_max.0, cull, &mut t)
+            mask & sphere_lanes::<V>(&geom.spheres[index], p, mask, &p.t_max.0, cull, &mut t)
         }
         Kind::Triangle if p.shared_k.is_some() => {
             let mut out = TriangleLanes::default();
-            triangle_lanes::<V>(&geom.triangles[index], p, &p.t_max.0, cull, &mut out);
+            triangle_lanes::<V>(&geom.triangles[index], p, mask, &p.t_max.0, cull, &mut out);
             (mask & out.found) | scalar(mask & out.slow)
         }
         _ => scalar(mask),
@@ -308,12 +316,14 @@ fn accept(
     });
 }
 
-/// [`crate::geometry::intersect_sphere`] on every lane: the lanes with a
-/// root in `(t_min, limit)`, that root written to `t`.
+/// [`crate::geometry::intersect_sphere`] on the lanes of `mask` (in vector
+/// groups: other lanes of a group are computed and ignored): the lanes with
+/// a root in `(t_min, limit)`, that root written to `t`.
 #[inline(always)]
 fn sphere_lanes<V: F32s>(
     s: &Sphere,
     p: &RayPacket,
+    mask: Mask,
     limit: &[f32; LANES],
     cull: Cull,
     t: &mut [f32; LANES],
@@ -323,6 +333,9 @@ fn sphere_lanes<V: F32s>(
     let zero = V::splat(0.0);
     let mut found: Mask = 0;
     for g in 0..LANES / V::W {
+        if !group_active::<V>(mask, g) {
+            continue;
+        }
         let (dx, dy, dz) = (V::load(&p.d[0].0, g), V::load(&p.d[1].0, g), V::load(&p.d[2].0, g));
         let fx = V::load(&p.o[0].0, g).sub(cx);
         let fy = V::load(&p.o[1].0, g).sub(cy);
@@ -371,6 +384,7 @@ struct TriangleLanes {
 fn triangle_lanes<V: F32s>(
     tri: &Triangle,
     p: &RayPacket,
+    mask: Mask,
     limit: &[f32; LANES],
     cull: Cull,
     out: &mut TriangleLanes,
@@ -380,6 +394,9 @@ fn triangle_lanes<V: F32s>(
     let (okx, oky, okz) = (&p.o[kx].0, &p.o[ky].0, &p.o[kz].0);
     let zero = V::splat(0.0);
     for g in 0..LANES / V::W {
+        if !group_active::<V>(mask, g) {
+            continue;
+        }
         let (ox, oy, oz) = (V::load(okx, g), V::load(oky, g), V::load(okz, g));
         let (sx, sy, sz) = (V::load(&p.shear[0].0, g), V::load(&p.shear[1].0, g), V::load(&p.shear[2].0, g));
         let rel = |k: usize, o: V, i: usize| V::splat(vtx[i][k]).sub(o);

@@ -98,6 +98,9 @@ fn next_entity_line(src: &[u8], from: usize) -> Option<usize> {
 /// have said something the chunks could not (module doc).
 fn join(parts: Vec<(Scene, bool)>, opts: &ParseOptions) -> Option<Parsed> {
     let mut scene = Scene::default();
+    // One allocation for every primitive, so joining copies each part once
+    // and never holds two growing copies of the whole list.
+    scene.primitives.reserve_exact(parts.iter().map(|(p, _)| p.primitives.len()).sum());
     for (part, quiet) in parts {
         let objects_before = !scene.primitives.is_empty();
         if !quiet
@@ -112,6 +115,7 @@ fn join(parts: Vec<(Scene, bool)>, opts: &ParseOptions) -> Option<Parsed> {
             p.material = p.material.map(|m| m + offset).or(inherited);
             p
         }));
+        // (The part's own list is freed here, before the next is copied.)
         scene.materials.extend(part.materials);
         scene.lights.extend(part.lights);
         scene.background = part.background.or(scene.background);

@@ -66,6 +66,13 @@ pub fn group_bits<V: F32s>(m: V::M, g: usize) -> u32 {
     V::bits(m) << (g * V::W)
 }
 
+/// Whether any lane of group `g` is in `mask`.
+#[inline(always)]
+pub fn group_active<V: F32s>(mask: u32, g: usize) -> bool {
+    let group = if V::W >= 32 { u32::MAX } else { (1u32 << V::W) - 1 };
+    (mask >> (g * V::W)) & group != 0
+}
+
 /// Four lanes in a plain array: the portable fallback off x86-64.
 #[derive(Clone, Copy)]
 pub struct Scalar4([f32; 4]);

@@ -12,7 +12,7 @@ use super::build::BvhNode;
 use crate::aabb::SLAB_WIDEN;
 use crate::math::RayQuery;
 use crate::packet::{vmin, Mask, RayPacket, LANES};
-use crate::simd::vector::{group_bits, F32s};
+use crate::simd::vector::{group_active, group_bits, F32s};
 use glam::Vec4;
 
 /// A 4-wide node.
@@ -158,6 +158,9 @@ impl Node4 {
             let mut m: Mask = 0;
             let mut near_min = inf;
             for g in 0..LANES / V::W {
+                if !group_active::<V>(mask, g) {
+                    continue;
+                }
                 let mut t_near = V::load(&p.t_min.0, g);
                 let mut t_far = inf;
                 for a in 0..3 {
