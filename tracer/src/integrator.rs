@@ -21,10 +21,11 @@ use crate::accel::{test_shadow, Intersector};
 use crate::geometry::Hit;
 use crate::material::WhittedMaterial;
 use crate::math::{basis, offset_ray_origin, reflect, refract, shadow_ray, Ray, RayQuery};
-use crate::packet::{PacketHits, RayPacket, LANES, NO_PRIM};
+use crate::packet::{for_lanes, Lanes, PacketHits, RayPacket, LANES, NO_PRIM};
 use crate::prepare::RenderScene;
 use crate::sampling::{concentric_disk, Sampler};
 use crate::shadow_cache::ShadowCache;
+use crate::shadow_lanes::{shadow_rays, LightLanes, PointLanes};
 use crate::stats::Counters;
 use glam::{Vec2, Vec3A};
 use strum::{Display, IntoStaticStr, VariantArray};
@@ -144,7 +145,7 @@ impl<I: Intersector> Whitted<'_, I> {
         for k in 0..scene.lights.len() {
             let Some(lr) = self.light_ray(&sp, k, depth, id, &mut th.counters) else { continue };
             if !self.cache_blocks(&lr, k, depth, th) && !self.blocked(&lr, k, depth, th) {
-                color += self.direct(&sp, k, &lr);
+                color += self.direct(&sp, k, lr.l, lr.n_dot_l);
             }
         }
         self.secondary(&sp, color, depth, weight, id, th)
@@ -184,10 +185,17 @@ impl<I: Intersector> Whitted<'_, I> {
             color[i] = scene.ambient * sp.m.kd * sp.m.color;
             points[i] = Some(sp);
         }
+        let mut at = PointLanes::default();
+        for (i, sp) in points.iter().enumerate() {
+            if let Some(sp) = sp {
+                for a in 0..3 {
+                    (at.p[a].0[i], at.ng[a].0[i], at.ns[a].0[i]) = (sp.p[a], sp.ng[a], sp.ns[a]);
+                }
+            }
+        }
         let mut shadow = RayPacket::new(std::iter::empty());
         for k in 0..scene.lights.len() {
-            shadow.clear();
-            self.light_packet(k, depth, &points, ids, &mut color, &mut shadow, th);
+            self.light_packet(k, depth, &points, &at, ids, &mut color, &mut shadow, th);
         }
         // Spawned rays, gathered per kind so that each kind is one packet.
         let mut spawned = [[None; LANES]; 3];
@@ -209,41 +217,60 @@ impl<I: Intersector> Whitted<'_, I> {
         }
     }
 
-    /// Add light `k` to the lanes of `points` whose shadow rays, traced as
-    /// one packet (in `shadow`, empty on entry) after the shadow cache had
-    /// its say, are clear.
+    /// Add light `k` to the lanes of `points` whose shadow rays, set up
+    /// lane-wise and traced as one packet (in `shadow`) after the shadow
+    /// cache had its say, are clear. `at` holds the points' positions and
+    /// normals.
     #[allow(clippy::too_many_arguments)]
     fn light_packet(
         &self,
         k: usize,
         depth: u32,
         points: &[Option<ShadePoint>; LANES],
+        at: &PointLanes,
         ids: &[SampleId],
         color: &mut [Vec3A; LANES],
         shadow: &mut RayPacket,
         th: &mut ThreadState<I::Scratch>,
     ) {
-        let mut light_rays = [None; LANES];
+        let center = self.scene.lights[k].position;
+        let mut pos = [Lanes([0.0; LANES]); 3];
+        let mut valid = 0;
         for (i, sp) in points.iter().enumerate() {
             let Some(sp) = sp else { continue };
-            let Some(lr) = self.light_ray(sp, k, depth, ids[i], &mut th.counters) else { continue };
-            if !self.cache_blocks(&lr, k, depth, th) {
-                shadow.set(i, lr.query, lr.max);
-                light_rays[i] = Some(lr);
+            let p = self.light_position(k, center, sp.p, depth, ids[i]);
+            for a in 0..3 {
+                pos[a].0[i] = p[a];
             }
+            valid |= 1 << i;
+        }
+        let mut dirs = LightLanes::default();
+        let lanes = shadow_rays(crate::simd::isa(), at, &pos, valid, shadow, &mut dirs);
+        th.counters.shadow += u64::from(lanes.counted.count_ones());
+        let geom = &self.scene.geometry;
+        if let Some(id) = th.shadow_cache.get(k, depth) {
+            let mut cached: u32 = 0;
+            for_lanes(shadow.active, |i| {
+                if test_shadow(geom, id, &shadow.query(i), shadow.t_max.0[i], &mut th.counters) {
+                    cached |= 1 << i;
+                }
+            });
+            th.counters.shadow_cache_hits += u64::from(cached.count_ones());
+            shadow.active &= !cached;
         }
         if shadow.is_empty() {
             return;
         }
-        let blockers =
-            self.accel.occluders_packet(&self.scene.geometry, shadow, &mut th.scratch, &mut th.counters);
-        for (i, lr) in light_rays.iter().enumerate() {
-            let (Some(lr), Some(sp)) = (lr, &points[i]) else { continue };
-            match blockers[i] {
-                NO_PRIM => color[i] += self.direct(sp, k, lr),
-                id => th.shadow_cache.set(k, depth, id),
+        let blockers = self.accel.occluders_packet(geom, shadow, &mut th.scratch, &mut th.counters);
+        for_lanes(shadow.active, |i| match blockers[i] {
+            NO_PRIM => {
+                let l = Vec3A::new(dirs.l[0].0[i], dirs.l[1].0[i], dirs.l[2].0[i]);
+                if let Some(sp) = &points[i] {
+                    color[i] += self.direct(sp, k, l, dirs.n_dot_l.0[i]);
+                }
             }
-        }
+            id => th.shadow_cache.set(k, depth, id),
+        });
     }
 
     /// Trace one kind of spawned ray (`(ray, share)` per lane, or none) at
@@ -296,13 +323,14 @@ impl<I: Intersector> Whitted<'_, I> {
         ShadePoint { p: s.p, ng: s.ng * flip, ns: s.ns * flip, d, entering, m }
     }
 
-    /// What light `k` adds at `sp` when its shadow ray is clear.
+    /// What light `k`, in direction `l` with `n_dot_l` = N·L, adds at `sp`
+    /// when its shadow ray is clear.
     #[inline]
-    fn direct(&self, sp: &ShadePoint, k: usize, lr: &LightRay) -> Vec3A {
+    fn direct(&self, sp: &ShadePoint, k: usize, l: Vec3A, n_dot_l: f32) -> Vec3A {
         let m = &sp.m;
-        let r = reflect(-lr.l, sp.ns);
+        let r = reflect(-l, sp.ns);
         let spec = if m.ks > 0.0 { m.ks * r.dot(-sp.d).max(0.0).powf(m.shine) } else { 0.0 };
-        self.scene.lights[k].intensity * (m.kd * lr.n_dot_l * m.color + Vec3A::splat(spec))
+        self.scene.lights[k].intensity * (m.kd * n_dot_l * m.color + Vec3A::splat(spec))
     }
 
     /// Add the reflected and refracted light at `sp` to `color`, tracing

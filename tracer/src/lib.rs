@@ -29,6 +29,7 @@ pub mod prepare;
 pub mod render;
 pub mod sampling;
 pub mod shadow_cache;
+pub mod shadow_lanes;
 pub mod simd;
 pub mod stats;
 pub mod triangulate;

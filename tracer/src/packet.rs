@@ -119,6 +119,15 @@ impl RayPacket {
         self.shared_k = None;
     }
 
+    /// Make the lanes of `mask` the active ones, their values already in
+    /// place (see [`crate::shadow_lanes`]).
+    pub fn activate(&mut self, mask: Mask) {
+        self.active = mask;
+        let mut lanes = (0..LANES).filter(|i| mask >> i & 1 != 0).map(|i| self.k[i]);
+        let first = lanes.next();
+        self.shared_k = first.filter(|k| lanes.all(|o| o == *k)).map(|k| k.map(usize::from));
+    }
+
     /// Number of lanes in use (highest active lane + 1).
     pub fn len(&self) -> usize {
         (Mask::BITS - self.active.leading_zeros()) as usize
@@ -399,10 +408,14 @@ fn triangle_lanes<V: F32s>(
         }
         let (ox, oy, oz) = (V::load(okx, g), V::load(oky, g), V::load(okz, g));
         let (sx, sy, sz) = (V::load(&p.shear[0].0, g), V::load(&p.shear[1].0, g), V::load(&p.shear[2].0, g));
-        let rel = |k: usize, o: V, i: usize| V::splat(vtx[i][k]).sub(o);
-        let (a_x, a_y, a_z) = (rel(kx, ox, 0), rel(ky, oy, 0), rel(kz, oz, 0));
-        let (b_x, b_y, b_z) = (rel(kx, ox, 1), rel(ky, oy, 1), rel(kz, oz, 1));
-        let (c_x, c_y, c_z) = (rel(kx, ox, 2), rel(ky, oy, 2), rel(kz, oz, 2));
+        // (Plain code, no closure: a closure is compiled without the
+        // instruction set, and the intrinsics in it would not inline.)
+        let (a_x, a_y, a_z) =
+            (V::splat(vtx[0][kx]).sub(ox), V::splat(vtx[0][ky]).sub(oy), V::splat(vtx[0][kz]).sub(oz));
+        let (b_x, b_y, b_z) =
+            (V::splat(vtx[1][kx]).sub(ox), V::splat(vtx[1][ky]).sub(oy), V::splat(vtx[1][kz]).sub(oz));
+        let (c_x, c_y, c_z) =
+            (V::splat(vtx[2][kx]).sub(ox), V::splat(vtx[2][ky]).sub(oy), V::splat(vtx[2][kz]).sub(oz));
         let (ax, ay) = (a_x.sub(sx.mul(a_z)), a_y.sub(sy.mul(a_z)));
         let (bx, by) = (b_x.sub(sx.mul(b_z)), b_y.sub(sy.mul(b_z)));
         let (cx, cy) = (c_x.sub(sx.mul(c_z)), c_y.sub(sy.mul(c_z)));

@@ -231,3 +231,81 @@ fn renders_with_packets_equal_renders_without() {
         assert_eq!(with, without, "{scene} at {spp} spp");
     }
 }
+
+/// The scalar setup of a shadow ray (`Whitted::light_ray`): the light
+/// direction, N·L, and the ray's query and length, or where it stops.
+fn scalar_shadow_ray(
+    p: Vec3A,
+    ng: Vec3A,
+    ns: Vec3A,
+    pos: Vec3A,
+) -> (bool, Option<(Vec3A, f32, RayQuery, f32)>) {
+    let to_light = pos - p;
+    let dist = to_light.length();
+    if dist == 0.0 {
+        return (false, None);
+    }
+    let l = to_light / dist;
+    let n_dot_l = ns.dot(l);
+    if n_dot_l <= 0.0 {
+        return (false, None);
+    }
+    let side = if ng.dot(l) >= 0.0 { ng } else { -ng };
+    let ray = nffkit_tracer::math::shadow_ray(p, pos, side);
+    (true, ray.map(|(ray, max)| (l, n_dot_l, RayQuery::new(ray, 0.0), max)))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    #[test]
+    fn shadow_rays_set_up_lane_wise_equal_the_scalar_setup(
+        points in prop::collection::vec((prop::array::uniform3(-3.0f32..3.0), prop::array::uniform3(-1.0f32..1.0), prop::array::uniform3(-1.0f32..1.0)), LANES),
+        light in prop::array::uniform3(-4.0f32..4.0),
+        tiny in any::<bool>(),
+        valid in any::<u16>(),
+    ) {
+        use nffkit_tracer::packet::Lanes;
+        use nffkit_tracer::shadow_lanes::{shadow_rays, LightLanes, PointLanes};
+        let mut at = PointLanes::default();
+        let mut pos = [Lanes([0.0; LANES]); 3];
+        let mut scalar = Vec::new();
+        for (i, (p, ng, ns)) in points.iter().enumerate() {
+            // Near the origin (the offsets' float branch), exactly on the
+            // light, and negative zeros, besides ordinary points.
+            let scale = if tiny { 1e-3 } else { 1.0 };
+            let mut p = Vec3A::from(*p) * scale;
+            if i == 3 { p = Vec3A::new(-0.0, 0.0, -0.0); }
+            let l = if i == 5 { p } else { Vec3A::from(light) };
+            let (ng, ns) = (Vec3A::from(*ng).normalize_or(Vec3A::Z), Vec3A::from(*ns).normalize_or(Vec3A::Z));
+            for a in 0..3 {
+                (at.p[a].0[i], at.ng[a].0[i], at.ns[a].0[i], pos[a].0[i]) = (p[a], ng[a], ns[a], l[a]);
+            }
+            scalar.push(scalar_shadow_ray(p, ng, ns, l));
+        }
+        for isa in Isa::available() {
+            let mut packet = RayPacket::new(std::iter::empty());
+            let mut dirs = LightLanes::default();
+            let valid = u32::from(valid);
+            let lanes = shadow_rays(isa, &at, &pos, valid, &mut packet, &mut dirs);
+            for (i, (counted, ray)) in scalar.iter().enumerate() {
+                let on = valid >> i & 1 != 0;
+                prop_assert_eq!(lanes.counted >> i & 1 != 0, on && *counted, "{} lane {} counted", isa, i);
+                prop_assert_eq!(lanes.rays >> i & 1 != 0, on && ray.is_some(), "{} lane {} ray", isa, i);
+                prop_assert_eq!(packet.active, lanes.rays);
+                let (Some((l, n_dot_l, q, max)), true) = (ray, on) else { continue };
+                let got = packet.query(i);
+                let bits = |v: Vec3A| v.to_array().map(f32::to_bits);
+                prop_assert_eq!(bits(got.ray.o), bits(q.ray.o), "{} lane {} origin", isa, i);
+                prop_assert_eq!(bits(got.ray.d), bits(q.ray.d));
+                prop_assert_eq!(bits(got.inv_d), bits(q.inv_d));
+                prop_assert_eq!(bits(got.shear), bits(q.shear));
+                prop_assert_eq!((got.neg, got.k, got.t_min), (q.neg, q.k, q.t_min));
+                prop_assert_eq!(packet.t_max.0[i].to_bits(), max.to_bits());
+                let dl = Vec3A::new(dirs.l[0].0[i], dirs.l[1].0[i], dirs.l[2].0[i]);
+                prop_assert_eq!(bits(dl), bits(*l));
+                prop_assert_eq!(dirs.n_dot_l.0[i].to_bits(), n_dot_l.to_bits());
+            }
+        }
+    }
+}

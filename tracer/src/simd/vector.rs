@@ -50,6 +50,8 @@ pub trait F32s: Copy {
     fn le(self, o: Self) -> Self::M;
     /// `self == o`.
     fn eq(self, o: Self) -> Self::M;
+    /// `b` and not `a`.
+    fn andnot(a: Self::M, b: Self::M) -> Self::M;
     /// Both.
     fn and(a: Self::M, b: Self::M) -> Self::M;
     /// Either.
@@ -58,6 +60,23 @@ pub trait F32s: Copy {
     fn select(m: Self::M, a: Self, b: Self) -> Self;
     /// One bit per lane, lane 0 lowest.
     fn bits(m: Self::M) -> u32;
+    /// `self as i32` (truncating, saturating, NaN to 0), the integer's
+    /// bits held in the lane.
+    fn to_i32_bits(self) -> Self;
+    /// Lanes holding integer bits added, wrapping.
+    fn add_i32(self, o: Self) -> Self;
+    /// Lanes holding integer bits subtracted, wrapping.
+    fn sub_i32(self, o: Self) -> Self;
+}
+
+/// The conversion every implementation shares: NaN to 0, saturation at
+/// the `i32` ends (the hardware gives `i32::MIN` for both), as Rust's `as`.
+#[inline(always)]
+fn to_i32_bits_with<V: F32s>(x: V, truncate: impl Fn(V) -> V) -> V {
+    const TWO_31: f32 = 2147483648.0;
+    let x = V::select(x.eq(x), x, V::splat(0.0));
+    let t = truncate(x.max(V::splat(-TWO_31)));
+    V::select(V::splat(TWO_31).le(x), V::splat(f32::from_bits(i32::MAX as u32)), t)
 }
 
 /// The mask bits of group `g` placed at their packet lanes.
@@ -153,6 +172,10 @@ impl F32s for Scalar4 {
         self.cmp(o, |a, b| a == b)
     }
     #[inline(always)]
+    fn andnot(a: [bool; 4], b: [bool; 4]) -> [bool; 4] {
+        std::array::from_fn(|i| !a[i] && b[i])
+    }
+    #[inline(always)]
     fn and(a: [bool; 4], b: [bool; 4]) -> [bool; 4] {
         std::array::from_fn(|i| a[i] && b[i])
     }
@@ -167,6 +190,18 @@ impl F32s for Scalar4 {
     #[inline(always)]
     fn bits(m: [bool; 4]) -> u32 {
         m.iter().enumerate().fold(0, |acc, (i, &b)| acc | (u32::from(b) << i))
+    }
+    #[inline(always)]
+    fn to_i32_bits(self) -> Self {
+        Scalar4(self.0.map(|x| f32::from_bits((x as i32) as u32)))
+    }
+    #[inline(always)]
+    fn add_i32(self, o: Self) -> Self {
+        self.map2(o, |a, b| f32::from_bits((a.to_bits() as i32).wrapping_add(b.to_bits() as i32) as u32))
+    }
+    #[inline(always)]
+    fn sub_i32(self, o: Self) -> Self {
+        self.map2(o, |a, b| f32::from_bits((a.to_bits() as i32).wrapping_sub(b.to_bits() as i32) as u32))
     }
 }
 
@@ -185,7 +220,8 @@ mod x86 {
     macro_rules! sse_like {
         ($name:ident, $v:ty, $w:expr, $set1:ident, $loadu:ident, $storeu:ident, $add:ident, $sub:ident,
          $mul:ident, $div:ident, $min:ident, $max:ident, $sqrt:ident, $and:ident, $or:ident, $andnot:ident,
-         $xor:ident, $movemask:ident, $blend:expr, $lt:expr, $le:expr, $eq:expr) => {
+         $xor:ident, $movemask:ident, $blend:expr, $lt:expr, $le:expr, $eq:expr,
+         $cvtt:ident, $addi:ident, $subi:ident, $tosi:ident, $tops:ident) => {
             /// See the module doc.
             #[derive(Clone, Copy)]
             pub struct $name($v);
@@ -259,6 +295,10 @@ mod x86 {
                     unsafe { $eq(self.0, o.0) }
                 }
                 #[inline(always)]
+                fn andnot(a: $v, b: $v) -> $v {
+                    unsafe { $andnot(a, b) }
+                }
+                #[inline(always)]
                 fn and(a: $v, b: $v) -> $v {
                     unsafe { $and(a, b) }
                 }
@@ -273,6 +313,18 @@ mod x86 {
                 #[inline(always)]
                 fn bits(m: $v) -> u32 {
                     unsafe { $movemask(m) as u32 }
+                }
+                #[inline(always)]
+                fn to_i32_bits(self) -> Self {
+                    super::to_i32_bits_with(self, |x: Self| $name(unsafe { $tops($cvtt(x.0)) }))
+                }
+                #[inline(always)]
+                fn add_i32(self, o: Self) -> Self {
+                    $name(unsafe { $tops($addi($tosi(self.0), $tosi(o.0))) })
+                }
+                #[inline(always)]
+                fn sub_i32(self, o: Self) -> Self {
+                    $name(unsafe { $tops($subi($tosi(self.0), $tosi(o.0))) })
                 }
             }
         };
@@ -306,7 +358,12 @@ mod x86 {
         sse_blend,
         _mm_cmplt_ps,
         _mm_cmple_ps,
-        _mm_cmpeq_ps
+        _mm_cmpeq_ps,
+        _mm_cvttps_epi32,
+        _mm_add_epi32,
+        _mm_sub_epi32,
+        _mm_castps_si128,
+        _mm_castsi128_ps
     );
 
     sse_like!(
@@ -331,7 +388,12 @@ mod x86 {
         _mm256_blendv_ps,
         |a, b| _mm256_cmp_ps::<_CMP_LT_OQ>(a, b),
         |a, b| _mm256_cmp_ps::<_CMP_LE_OQ>(a, b),
-        |a, b| _mm256_cmp_ps::<_CMP_EQ_OQ>(a, b)
+        |a, b| _mm256_cmp_ps::<_CMP_EQ_OQ>(a, b),
+        _mm256_cvttps_epi32,
+        _mm256_add_epi32,
+        _mm256_sub_epi32,
+        _mm256_castps_si256,
+        _mm256_castsi256_ps
     );
 
     /// Sixteen lanes with AVX-512 mask registers.
@@ -412,6 +474,10 @@ mod x86 {
             unsafe { _mm512_cmp_ps_mask::<_CMP_EQ_OQ>(self.0, o.0) }
         }
         #[inline(always)]
+        fn andnot(a: __mmask16, b: __mmask16) -> __mmask16 {
+            !a & b
+        }
+        #[inline(always)]
         fn and(a: __mmask16, b: __mmask16) -> __mmask16 {
             a & b
         }
@@ -426,6 +492,26 @@ mod x86 {
         #[inline(always)]
         fn bits(m: __mmask16) -> u32 {
             u32::from(m)
+        }
+        #[inline(always)]
+        fn to_i32_bits(self) -> Self {
+            super::to_i32_bits_with(self, |x: Self| {
+                Avx512(unsafe { _mm512_castsi512_ps(_mm512_cvttps_epi32(x.0)) })
+            })
+        }
+        #[inline(always)]
+        fn add_i32(self, o: Self) -> Self {
+            unsafe {
+                let sum = _mm512_add_epi32(_mm512_castps_si512(self.0), _mm512_castps_si512(o.0));
+                Avx512(_mm512_castsi512_ps(sum))
+            }
+        }
+        #[inline(always)]
+        fn sub_i32(self, o: Self) -> Self {
+            unsafe {
+                let d = _mm512_sub_epi32(_mm512_castps_si512(self.0), _mm512_castps_si512(o.0));
+                Avx512(_mm512_castsi512_ps(d))
+            }
         }
     }
 }
@@ -448,7 +534,8 @@ mod tests {
             for g in 0..LANES / V::W {
                 let (x, y) = (V::load(&a, g), V::load(&b, g));
                 type Op<'a> = &'a dyn Fn(f32, f32) -> f32;
-                let ops: [(V, Op); 9] = [
+                let int = |x: f32| x.to_bits() as i32;
+                let ops: [(V, Op); 12] = [
                     (x.add(y), &|p, q| p + q),
                     (x.sub(y), &|p, q| p - q),
                     (x.mul(y), &|p, q| p * q),
@@ -458,6 +545,9 @@ mod tests {
                     (x.sqrt(), &|p, _| p.sqrt()),
                     (x.copysign(y), &|p, q| p.copysign(q)),
                     (x.neg(), &|p, _| -p),
+                    (x.mul(V::splat(3e9)).to_i32_bits(), &|p, _| f32::from_bits(((p * 3e9) as i32) as u32)),
+                    (x.add_i32(y), &|p, q| f32::from_bits(int(p).wrapping_add(int(q)) as u32)),
+                    (x.sub_i32(y), &|p, q| f32::from_bits(int(p).wrapping_sub(int(q)) as u32)),
                 ];
                 for (k_op, (v, f)) in ops.iter().enumerate() {
                     let mut out = [0.0f32; LANES];
@@ -486,7 +576,8 @@ mod tests {
                     assert!(s[g * V::W + i].to_bits() == w.to_bits(), "select on ({p}, {q})");
                     let both = V::bits(V::and(x.lt(y), x.le(y))) >> i & 1 != 0;
                     let either = V::bits(V::or(x.lt(y), x.eq(y))) >> i & 1 != 0;
-                    assert_eq!((both, either), (p < q, p <= q));
+                    let but = V::bits(V::andnot(x.eq(y), x.le(y))) >> i & 1 != 0;
+                    assert_eq!((both, either, but), (p < q, p <= q, p < q));
                 }
             }
         }

@@ -1,0 +1,214 @@
+//! The shadow rays of a packet's hit points toward one light, set up
+//! lane-wise: the light direction and N·L of each point, the robust
+//! origin and end offsets of [`crate::math::shadow_ray`], and the per-ray
+//! constants of [`crate::math::RayQuery`], written straight into a
+//! [`RayPacket`]. Operation for operation the scalar code of
+//! `Whitted::light_ray`, `shadow_ray`, `offset_ray_origin` and
+//! `RayQuery::new` (glam's dot products sum x, y then z; its `normalize`
+//! divides by the length), so every lane gets the bits a ray set up alone
+//! gets, and images do not depend on packets.
+
+use crate::packet::{Lanes, Mask, RayPacket, LANES};
+use crate::simd::vector::{group_active, group_bits, F32s};
+
+/// Hit points of a packet in structure-of-arrays form: position, geometric
+/// and shading normals (both facing the incoming ray).
+#[derive(Debug, Clone)]
+#[repr(C, align(64))]
+pub struct PointLanes {
+    /// Positions.
+    pub p: [Lanes; 3],
+    /// Geometric normals.
+    pub ng: [Lanes; 3],
+    /// Shading normals.
+    pub ns: [Lanes; 3],
+}
+
+impl Default for PointLanes {
+    fn default() -> Self {
+        let zero = [Lanes([0.0; LANES]); 3];
+        PointLanes { p: zero, ng: zero, ns: zero }
+    }
+}
+
+/// What shading needs of each lane's light: the unit direction to it and
+/// N·L (shading normal).
+#[derive(Debug, Clone)]
+#[repr(C, align(64))]
+pub struct LightLanes {
+    /// Direction to the light.
+    pub l: [Lanes; 3],
+    /// Shading normal · `l`.
+    pub n_dot_l: Lanes,
+}
+
+impl Default for LightLanes {
+    fn default() -> Self {
+        LightLanes { l: [Lanes([0.0; LANES]); 3], n_dot_l: Lanes([0.0; LANES]) }
+    }
+}
+
+/// Which lanes came how far.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ShadowLanes {
+    /// Lanes whose light faces the point: a shadow ray is counted.
+    pub counted: Mask,
+    /// Lanes with a shadow ray in the packet (the segment is not empty).
+    pub rays: Mask,
+}
+
+crate::dispatch! {
+    /// Shadow rays from the points of `valid` lanes toward `light[i]`,
+    /// written to `out` (its other lanes emptied), with each lane's light
+    /// direction and N·L in `dirs`.
+    pub fn shadow_rays(
+        isa: Isa,
+        at: &PointLanes,
+        light: &[Lanes; 3],
+        valid: Mask,
+        out: &mut RayPacket,
+        dirs: &mut LightLanes,
+    ) -> ShadowLanes {
+        shadow_rays_body::<V>(at, light, valid, out, dirs)
+    }
+}
+
+/// Load a vector of three lanes' arrays.
+#[inline(always)]
+fn load3<V: F32s>(a: &[Lanes; 3], g: usize) -> [V; 3] {
+    [V::load(&a[0].0, g), V::load(&a[1].0, g), V::load(&a[2].0, g)]
+}
+
+#[inline(always)]
+fn dot<V: F32s>(a: [V; 3], b: [V; 3]) -> V {
+    a[0].mul(b[0]).add(a[1].mul(b[1])).add(a[2].mul(b[2]))
+}
+
+#[inline(always)]
+fn sub3<V: F32s>(a: [V; 3], b: [V; 3]) -> [V; 3] {
+    [a[0].sub(b[0]), a[1].sub(b[1]), a[2].sub(b[2])]
+}
+
+/// `offset_ray_origin(p, n)`, lane-wise.
+///
+/// (No closures or `array::map` in these kernels: those are separate
+/// functions compiled without the instruction set, and the vector
+/// intrinsics inside them would not be inlined.)
+#[inline(always)]
+fn offset<V: F32s>(p: [V; 3], n: [V; 3]) -> [V; 3] {
+    [offset1(p[0], n[0]), offset1(p[1], n[1]), offset1(p[2], n[2])]
+}
+
+#[inline(always)]
+fn offset1<V: F32s>(p: V, n: V) -> V {
+    let zero = V::splat(0.0);
+    let of = V::splat(256.0).mul(n).to_i32_bits();
+    let delta = V::select(p.lt(zero), zero.to_i32_bits().sub_i32(of), of);
+    let moved = p.add_i32(delta);
+    let near_zero = p.copysign(zero).lt(V::splat(1.0 / 32.0));
+    V::select(near_zero, p.add(V::splat(1.0 / 65536.0).mul(n)), moved)
+}
+
+#[inline(always)]
+fn div3<V: F32s>(a: [V; 3], s: V) -> [V; 3] {
+    [a[0].div(s), a[1].div(s), a[2].div(s)]
+}
+
+#[inline(always)]
+fn neg3<V: F32s>(a: [V; 3]) -> [V; 3] {
+    [a[0].neg(), a[1].neg(), a[2].neg()]
+}
+
+/// `m ? a : b` for each axis.
+#[inline(always)]
+fn select3<V: F32s>(m: V::M, a: [V; 3], b: [V; 3]) -> [V; 3] {
+    [V::select(m, a[0], b[0]), V::select(m, a[1], b[1]), V::select(m, a[2], b[2])]
+}
+
+/// The lane's value of `d` along its (x, y) shear axes: by the major axis
+/// (`x_major`, `y_major`, else z) and the sign along it (`neg`), as the
+/// table of `RayQuery::new`.
+#[inline(always)]
+fn pick<V: F32s>(x_major: V::M, y_major: V::M, neg: V::M, x: [V; 2], y: [V; 2], z: [V; 2]) -> V {
+    let (x, y, z) = (V::select(neg, x[1], x[0]), V::select(neg, y[1], y[0]), V::select(neg, z[1], z[0]));
+    V::select(x_major, x, V::select(y_major, y, z))
+}
+
+#[inline(always)]
+fn shadow_rays_body<V: F32s>(
+    at: &PointLanes,
+    light: &[Lanes; 3],
+    valid: Mask,
+    out: &mut RayPacket,
+    dirs: &mut LightLanes,
+) -> ShadowLanes {
+    let zero = V::splat(0.0);
+    let (mut counted, mut rays) = (0, 0);
+    let (mut kz0, mut kz1, mut negz) = (0, 0, 0);
+    out.clear();
+    for g in 0..LANES / V::W {
+        if !group_active::<V>(valid, g) {
+            continue;
+        }
+        let (p, pos) = (load3::<V>(&at.p, g), load3::<V>(light, g));
+        let (ng, ns) = (load3::<V>(&at.ng, g), load3::<V>(&at.ns, g));
+        let to_light = sub3(pos, p);
+        let dist = dot(to_light, to_light).sqrt();
+        let l = div3(to_light, dist);
+        let n_dot_l = dot(ns, l);
+        // Counted unless dist == 0 or N·L <= 0 (NaN goes on, as in scalar).
+        let stop = V::bits(V::or(dist.eq(zero), n_dot_l.le(zero)));
+        let group = V::bits(zero.eq(zero));
+        counted |= (!stop & group) << (g * V::W);
+        let front = zero.le(dot(ng, l));
+        let side = select3(front, ng, neg3(ng));
+        let origin = offset(p, side);
+        let v = sub3(pos, origin);
+        let len = dot(v, v).sqrt();
+        let d = div3(v, len);
+        let end = offset(pos, neg3(d));
+        let max = dot(sub3(end, origin), d);
+        rays |= group_bits::<V>(zero.lt(max), g);
+        for a in 0..3 {
+            l[a].store(&mut dirs.l[a].0, g);
+            origin[a].store(&mut out.o[a].0, g);
+            d[a].store(&mut out.d[a].0, g);
+            let inv = V::splat(1.0).div(d[a]).max(V::splat(-1e30)).min(V::splat(1e30));
+            inv.store(&mut out.inv[a].0, g);
+            out.neg[a] |= group_bits::<V>(inv.lt(zero), g);
+        }
+        n_dot_l.store(&mut dirs.n_dot_l.0, g);
+        zero.store(&mut out.t_min.0, g);
+        max.store(&mut out.t_max.0, g);
+        // The triangle test's axis permutation and shear (RayQuery::new).
+        let abs = [d[0].copysign(zero), d[1].copysign(zero), d[2].copysign(zero)];
+        let x_major = V::and(abs[1].le(abs[0]), abs[2].le(abs[0]));
+        let y_major = V::andnot(x_major, abs[2].le(abs[1]));
+        let dz = V::select(x_major, d[0], V::select(y_major, d[1], d[2]));
+        let neg = dz.lt(zero);
+        let dx = pick(x_major, y_major, neg, [d[1], d[2]], [d[2], d[0]], [d[0], d[1]]);
+        let dy = pick(x_major, y_major, neg, [d[2], d[1]], [d[0], d[2]], [d[1], d[0]]);
+        dx.div(dz).store(&mut out.shear[0].0, g);
+        dy.div(dz).store(&mut out.shear[1].0, g);
+        V::splat(1.0).div(dz).store(&mut out.shear[2].0, g);
+        kz0 |= group_bits::<V>(x_major, g);
+        kz1 |= group_bits::<V>(y_major, g);
+        negz |= group_bits::<V>(neg, g);
+    }
+    let counted = counted & valid;
+    let rays = rays & counted;
+    for i in 0..LANES {
+        let bit = |m: Mask| m >> i & 1 != 0;
+        let kz: u8 = if bit(kz0) {
+            0
+        } else if bit(kz1) {
+            1
+        } else {
+            2
+        };
+        let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
+        out.k[i] = if bit(negz) { [ky, kx, kz] } else { [kx, ky, kz] };
+    }
+    out.activate(rays);
+    ShadowLanes { counted, rays }
+}
