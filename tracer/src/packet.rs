@@ -213,16 +213,6 @@ impl PacketHits {
     }
 }
 
-/// `a < b ? a : b`, one `min` instruction.
-#[inline(always)]
-pub(crate) fn vmin(a: f32, b: f32) -> f32 {
-    if a < b {
-        a
-    } else {
-        b
-    }
-}
-
 /// The lanes in `mask` that hit primitive `id` within their `(t_min,
 /// limit)` and beat their best hit; updates the hits. Spheres and, when
 /// the lanes share the axis permutation, triangles are tested lane-wise

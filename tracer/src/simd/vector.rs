@@ -60,6 +60,8 @@ pub trait F32s: Copy {
     fn select(m: Self::M, a: Self, b: Self) -> Self;
     /// One bit per lane, lane 0 lowest.
     fn bits(m: Self::M) -> u32;
+    /// The smallest lane (`min` in any order: exact when no lane is NaN).
+    fn hmin(self) -> f32;
     /// `self as i32` (truncating, saturating, NaN to 0), the integer's
     /// bits held in the lane.
     fn to_i32_bits(self) -> Self;
@@ -192,6 +194,16 @@ impl F32s for Scalar4 {
         m.iter().enumerate().fold(0, |acc, (i, &b)| acc | (u32::from(b) << i))
     }
     #[inline(always)]
+    fn hmin(self) -> f32 {
+        let [a, b, c, d] = self.0;
+        let (x, y) = (if a < b { a } else { b }, if c < d { c } else { d });
+        if x < y {
+            x
+        } else {
+            y
+        }
+    }
+    #[inline(always)]
     fn to_i32_bits(self) -> Self {
         Scalar4(self.0.map(|x| f32::from_bits((x as i32) as u32)))
     }
@@ -221,7 +233,7 @@ mod x86 {
         ($name:ident, $v:ty, $w:expr, $set1:ident, $loadu:ident, $storeu:ident, $add:ident, $sub:ident,
          $mul:ident, $div:ident, $min:ident, $max:ident, $sqrt:ident, $and:ident, $or:ident, $andnot:ident,
          $xor:ident, $movemask:ident, $blend:expr, $lt:expr, $le:expr, $eq:expr,
-         $cvtt:ident, $addi:ident, $subi:ident, $tosi:ident, $tops:ident) => {
+         $cvtt:ident, $addi:ident, $subi:ident, $tosi:ident, $tops:ident, $hmin:expr) => {
             /// See the module doc.
             #[derive(Clone, Copy)]
             pub struct $name($v);
@@ -315,6 +327,10 @@ mod x86 {
                     unsafe { $movemask(m) as u32 }
                 }
                 #[inline(always)]
+                fn hmin(self) -> f32 {
+                    unsafe { $hmin(self.0) }
+                }
+                #[inline(always)]
                 fn to_i32_bits(self) -> Self {
                     super::to_i32_bits_with(self, |x: Self| $name(unsafe { $tops($cvtt(x.0)) }))
                 }
@@ -328,6 +344,22 @@ mod x86 {
                 }
             }
         };
+    }
+
+    /// Smallest of four lanes.
+    #[inline(always)]
+    unsafe fn sse_hmin(v: __m128) -> f32 {
+        unsafe {
+            let m = _mm_min_ps(v, _mm_shuffle_ps::<0b01_00_11_10>(v, v));
+            let m = _mm_min_ps(m, _mm_shuffle_ps::<0b10_11_00_01>(m, m));
+            _mm_cvtss_f32(m)
+        }
+    }
+
+    /// Smallest of eight lanes.
+    #[inline(always)]
+    unsafe fn avx_hmin(v: __m256) -> f32 {
+        unsafe { sse_hmin(_mm_min_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps::<1>(v))) }
     }
 
     /// SSE blend without SSE4.1: `(a & !m) | (b & m)`.
@@ -363,7 +395,8 @@ mod x86 {
         _mm_add_epi32,
         _mm_sub_epi32,
         _mm_castps_si128,
-        _mm_castsi128_ps
+        _mm_castsi128_ps,
+        sse_hmin
     );
 
     sse_like!(
@@ -393,7 +426,8 @@ mod x86 {
         _mm256_add_epi32,
         _mm256_sub_epi32,
         _mm256_castps_si256,
-        _mm256_castsi256_ps
+        _mm256_castsi256_ps,
+        avx_hmin
     );
 
     /// Sixteen lanes with AVX-512 mask registers.
@@ -492,6 +526,10 @@ mod x86 {
         #[inline(always)]
         fn bits(m: __mmask16) -> u32 {
             u32::from(m)
+        }
+        #[inline(always)]
+        fn hmin(self) -> f32 {
+            unsafe { _mm512_reduce_min_ps(self.0) }
         }
         #[inline(always)]
         fn to_i32_bits(self) -> Self {

@@ -113,7 +113,7 @@ fn intersect_body<V: F32s>(
         }
         c.visits += 1;
         let node = &bvh.wide[e.child as usize];
-        Bvh::push_children(node, node.hit_packet::<V>(p, &hits.t.0, mask), stack, &mut sp);
+        Bvh::push_children(node, node.hit_packet::<V, true>(p, &hits.t.0, mask), stack, &mut sp);
     }
 }
 
@@ -173,7 +173,14 @@ fn occluders_body<V: F32s>(
         }
         c.visits += 1;
         let node = &bvh.wide[e.child as usize];
-        Bvh::push_children(node, node.hit_packet::<V>(p, &p.t_max.0, mask), stack, &mut sp);
+        let (masks, _) = node.hit_packet::<V, false>(p, &p.t_max.0, mask);
+        for (slot, &m) in masks.iter().enumerate() {
+            if m != 0 {
+                let e = node.entry(slot, 0.0);
+                stack[sp] = PacketEntry { child: e.child, count: e.count, mask: m, t: 0.0 };
+                sp += 1;
+            }
+        }
     }
 }
 

@@ -11,7 +11,7 @@
 use super::build::BvhNode;
 use crate::aabb::SLAB_WIDEN;
 use crate::math::RayQuery;
-use crate::packet::{vmin, Mask, RayPacket, LANES};
+use crate::packet::{Mask, RayPacket, LANES};
 use crate::simd::vector::{group_active, group_bits, F32s};
 use glam::Vec4;
 
@@ -139,8 +139,11 @@ impl Node4 {
     /// none). Near and far planes come from min and max of the two slab
     /// distances, which for the non-empty boxes tested equals choosing them
     /// by the sign of 1/d.
+    ///
+    /// With `NEAREST` false (shadow rays, which need no order), the entry
+    /// distances are not gathered and come back infinite.
     #[inline(always)]
-    pub fn hit_packet<V: F32s>(
+    pub fn hit_packet<V: F32s, const NEAREST: bool>(
         &self,
         p: &RayPacket,
         far: &[f32; LANES],
@@ -173,13 +176,13 @@ impl Node4 {
                 let t_far = t_far.mul(V::splat(SLAB_WIDEN)).min(V::load(far, g));
                 let hit = t_near.le(t_far);
                 m |= group_bits::<V>(hit, g);
-                near_min = near_min.min(V::select(hit, t_near, inf));
+                if NEAREST {
+                    near_min = near_min.min(V::select(hit, t_near, inf));
+                }
             }
             masks[slot] = m & mask;
-            if masks[slot] != 0 {
-                let mut lanes = [f32::INFINITY; LANES];
-                near_min.store(&mut lanes, 0);
-                nearest[slot] = lanes[..V::W].iter().fold(f32::INFINITY, |a, &b| vmin(a, b));
+            if NEAREST && masks[slot] != 0 {
+                nearest[slot] = near_min.hmin();
             }
         }
         (masks, nearest)
