@@ -21,7 +21,7 @@ use crate::accel::{test_shadow, Intersector};
 use crate::geometry::Hit;
 use crate::material::WhittedMaterial;
 use crate::math::{basis, offset_ray_origin, reflect, refract, shadow_ray, Ray, RayQuery};
-use crate::packet::{for_lanes, Lanes, PacketHits, RayPacket, LANES, NO_PRIM};
+use crate::packet::{for_lanes, occludes, Lanes, PacketHits, RayPacket, LANES, NO_PRIM};
 use crate::prepare::RenderScene;
 use crate::sampling::{concentric_disk, Sampler};
 use crate::shadow_cache::ShadowCache;
@@ -249,12 +249,7 @@ impl<I: Intersector> Whitted<'_, I> {
         th.counters.shadow += u64::from(lanes.counted.count_ones());
         let geom = &self.scene.geometry;
         if let Some(id) = th.shadow_cache.get(k, depth) {
-            let mut cached: u32 = 0;
-            for_lanes(shadow.active, |i| {
-                if test_shadow(geom, id, &shadow.query(i), shadow.t_max.0[i], &mut th.counters) {
-                    cached |= 1 << i;
-                }
-            });
+            let cached = occludes(crate::simd::isa(), geom, id, shadow, shadow.active, &mut th.counters);
             th.counters.shadow_cache_hits += u64::from(cached.count_ones());
             shadow.active &= !cached;
         }

@@ -284,6 +284,14 @@ pub fn occludes_packet<V: F32s>(
     }
 }
 
+crate::dispatch! {
+    /// [`occludes_packet`] compiled for `isa`: the lanes of `mask` that
+    /// primitive `id` blocks (the shadow cache's test of a packet).
+    pub fn occludes(isa: Isa, geom: &Geometry, id: u32, p: &RayPacket, mask: Mask, c: &mut Counters) -> Mask {
+        occludes_packet::<V>(geom, id, p, mask, c)
+    }
+}
+
 /// Call `f` with each lane of `mask`, lowest first.
 #[inline(always)]
 pub fn for_lanes(mut mask: Mask, mut f: impl FnMut(usize)) {
