@@ -1,48 +1,15 @@
 //! Grid, BVH and brute force agree on every hit; mailboxes change nothing but
 //! the work. (The DDA's cell order is tested beside it, in `accel/grid.rs`.)
 
-use glam::{DVec3, Vec3A};
-use nffkit_formats::{Primitive, Scene, Shape, SourceLine};
+use glam::Vec3A;
 use nffkit_tracer::accel::{BruteForce, Bvh, Grid, Intersector};
 use nffkit_tracer::geometry::Geometry;
-use nffkit_tracer::material::WhittedMaterial;
 use nffkit_tracer::math::{Ray, RayQuery};
-use nffkit_tracer::prepare::build_geometry;
 use nffkit_tracer::stats::Counters;
 use proptest::prelude::*;
 
-fn random_scene(seed: u64, n: usize) -> Geometry {
-    let mut s = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-    let mut rnd = move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64
-    };
-    let mut scene = Scene::default();
-    for i in 0..n {
-        let c = DVec3::new(rnd() * 10.0 - 5.0, rnd() * 10.0 - 5.0, rnd() * 10.0 - 5.0);
-        let shape = match i % 4 {
-            0 => Shape::Sphere { center: c, radius: 0.1 + rnd() * 0.8 },
-            1 => Shape::Polygon {
-                vertices: (0..3).map(|_| c + DVec3::new(rnd(), rnd(), rnd()) * 2.0 - 1.0).collect(),
-            },
-            2 => Shape::Cone {
-                base: c,
-                base_radius: 0.1 + rnd() * 0.5,
-                apex: c + DVec3::new(rnd(), rnd(), rnd()) * 2.0 - 1.0,
-                apex_radius: rnd() * 0.3,
-            },
-            _ => Shape::Patch {
-                vertices: vec![c, c + DVec3::X, c + DVec3::new(rnd(), 1.0, rnd())],
-                normals: vec![DVec3::Z, DVec3::new(0.1, 0.0, 1.0), DVec3::new(0.0, 0.2, 1.0)],
-            },
-        };
-        scene.primitives.push(Primitive { shape, material: None, line: SourceLine(0) });
-    }
-    let m = WhittedMaterial { color: Vec3A::ONE, kd: 1.0, ks: 0.0, shine: 1.0, t: 0.0, ior: 1.0 };
-    build_geometry(&scene, &[m], false)
-}
+mod common;
+use common::random_scene;
 
 fn query(o: [f32; 3], d: [f32; 3]) -> Option<RayQuery> {
     let d = Vec3A::from(d);
@@ -70,7 +37,7 @@ proptest! {
         rays in prop::collection::vec((prop::array::uniform3(-8.0f32..8.0), prop::array::uniform3(-1.0f32..1.0)), 40),
         m in 0.0f32..4.0,
     ) {
-        let g = random_scene(seed, n);
+        let g = random_scene(seed, n, false);
         let bvh = Bvh::build(&g);
         let grid = Grid::build(&g, m, true);
         let grid_plain = Grid::build(&g, m, false);
@@ -85,7 +52,7 @@ proptest! {
 
 #[test]
 fn mailboxes_save_tests_without_changing_hits() {
-    let g = random_scene(7, 400);
+    let g = random_scene(7, 400, false);
     let (with, without) = (Grid::build(&g, 4.0, true), Grid::build(&g, 4.0, false));
     let (mut sw, mut so) = (with.scratch(&g), without.scratch(&g));
     let (mut cw, mut co) = (Counters::default(), Counters::default());
@@ -105,7 +72,7 @@ fn mailboxes_save_tests_without_changing_hits() {
 
 #[test]
 fn grid_with_m_zero_is_one_cell() {
-    let g = random_scene(3, 50);
+    let g = random_scene(3, 50, false);
     let grid = Grid::build(&g, 0.0, true);
     assert_eq!(grid.dims, [1, 1, 1]);
 }
@@ -113,7 +80,7 @@ fn grid_with_m_zero_is_one_cell() {
 #[test]
 fn large_trees_built_in_parallel_agree_with_brute_force() {
     // Above the parallel-build threshold (65,536 primitives).
-    let g = random_scene(5, 150_000);
+    let g = random_scene(5, 150_000, false);
     let bvh = Bvh::build(&g);
     for i in 0..150 {
         let a = i as f32 * 0.77;
