@@ -73,8 +73,18 @@ impl RayPacket {
             shared_k: None,
             k: [[0; 3]; LANES],
         };
+        let mut mask = 0;
         for (i, (ray, t_min, t_max)) in rays.into_iter().enumerate().take(LANES) {
-            p.set(i, RayQuery::new(ray, t_min), t_max);
+            for a in 0..3 {
+                p.o[a].0[i] = ray.o[a];
+                p.d[a].0[i] = ray.d[a];
+            }
+            p.t_min.0[i] = t_min;
+            p.t_max.0[i] = t_max;
+            mask |= 1 << i;
+        }
+        if mask != 0 {
+            ray_constants(crate::simd::isa(), &mut p, mask);
         }
         p
     }
@@ -136,6 +146,87 @@ impl RayPacket {
     /// True when no lane holds a ray.
     pub fn is_empty(&self) -> bool {
         self.active == 0
+    }
+}
+
+/// The per-ray constants of [`RayQuery::new`] computed lane-wise, bit for
+/// bit: 1/d clamped, its signs, and the watertight triangle test's axis
+/// permutation and shear. Gathered per vector group by [`Permutations::add`]
+/// (which also stores 1/d, its signs and the shear), then written per lane by
+/// [`Permutations::finish`].
+#[derive(Default)]
+pub(crate) struct Permutations {
+    x_major: Mask,
+    y_major: Mask,
+    negative: Mask,
+}
+
+impl Permutations {
+    /// Compute group `g`'s constants from its directions `d` into `out`.
+    #[inline(always)]
+    pub(crate) fn add<V: F32s>(&mut self, out: &mut RayPacket, d: [V; 3], g: usize) {
+        let zero = V::splat(0.0);
+        for (a, &da) in d.iter().enumerate() {
+            let inv = V::splat(1.0).div(da).max(V::splat(-1e30)).min(V::splat(1e30));
+            inv.store(&mut out.inv[a].0, g);
+            out.neg[a] |= group_bits::<V>(inv.lt(zero), g);
+        }
+        let abs = [d[0].copysign(zero), d[1].copysign(zero), d[2].copysign(zero)];
+        let x_major = V::and(abs[1].le(abs[0]), abs[2].le(abs[0]));
+        let y_major = V::andnot(x_major, abs[2].le(abs[1]));
+        let dz = V::select(x_major, d[0], V::select(y_major, d[1], d[2]));
+        let neg = dz.lt(zero);
+        let dx = pick(x_major, y_major, neg, [d[1], d[2]], [d[2], d[0]], [d[0], d[1]]);
+        let dy = pick(x_major, y_major, neg, [d[2], d[1]], [d[0], d[2]], [d[1], d[0]]);
+        dx.div(dz).store(&mut out.shear[0].0, g);
+        dy.div(dz).store(&mut out.shear[1].0, g);
+        V::splat(1.0).div(dz).store(&mut out.shear[2].0, g);
+        self.x_major |= group_bits::<V>(x_major, g);
+        self.y_major |= group_bits::<V>(y_major, g);
+        self.negative |= group_bits::<V>(neg, g);
+    }
+
+    /// Write each lane's permutation (`[kx, ky, kz]` of `RayQuery::new`).
+    pub(crate) fn finish(&self, out: &mut RayPacket) {
+        for i in 0..LANES {
+            let bit = |m: Mask| m >> i & 1 != 0;
+            let kz: u8 = if bit(self.x_major) {
+                0
+            } else if bit(self.y_major) {
+                1
+            } else {
+                2
+            };
+            let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
+            out.k[i] = if bit(self.negative) { [ky, kx, kz] } else { [kx, ky, kz] };
+        }
+    }
+}
+
+/// The lane's value of `d` along its (x, y) shear axes: by the major axis
+/// (`x_major`, `y_major`, else z) and the sign along it (`neg`), as the
+/// table of `RayQuery::new`. (A function, not a closure: closures are
+/// compiled without the kernel's instruction set.)
+#[inline(always)]
+fn pick<V: F32s>(x_major: V::M, y_major: V::M, neg: V::M, x: [V; 2], y: [V; 2], z: [V; 2]) -> V {
+    let (x, y, z) = (V::select(neg, x[1], x[0]), V::select(neg, y[1], y[0]), V::select(neg, z[1], z[0]));
+    V::select(x_major, x, V::select(y_major, y, z))
+}
+
+crate::dispatch! {
+    /// Fill the per-ray constants of the lanes of `mask` from their
+    /// directions, and make those lanes the active ones.
+    fn ray_constants(isa: Isa, p: &mut RayPacket, mask: Mask) {
+        let mut perm = Permutations::default();
+        p.neg = [0; 3];
+        for g in 0..LANES / V::W {
+            if group_active::<V>(mask, g) {
+                let d = [V::load(&p.d[0].0, g), V::load(&p.d[1].0, g), V::load(&p.d[2].0, g)];
+                perm.add::<V>(p, d, g);
+            }
+        }
+        perm.finish(p);
+        p.activate(mask);
     }
 }
 

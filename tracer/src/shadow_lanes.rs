@@ -8,7 +8,7 @@
 //! divides by the length), so every lane gets the bits a ray set up alone
 //! gets, and images do not depend on packets.
 
-use crate::packet::{Lanes, Mask, RayPacket, LANES};
+use crate::packet::{Lanes, Mask, Permutations, RayPacket, LANES};
 use crate::simd::vector::{group_active, group_bits, F32s};
 
 /// Hit points of a packet in structure-of-arrays form: position, geometric
@@ -125,15 +125,6 @@ fn select3<V: F32s>(m: V::M, a: [V; 3], b: [V; 3]) -> [V; 3] {
     [V::select(m, a[0], b[0]), V::select(m, a[1], b[1]), V::select(m, a[2], b[2])]
 }
 
-/// The lane's value of `d` along its (x, y) shear axes: by the major axis
-/// (`x_major`, `y_major`, else z) and the sign along it (`neg`), as the
-/// table of `RayQuery::new`.
-#[inline(always)]
-fn pick<V: F32s>(x_major: V::M, y_major: V::M, neg: V::M, x: [V; 2], y: [V; 2], z: [V; 2]) -> V {
-    let (x, y, z) = (V::select(neg, x[1], x[0]), V::select(neg, y[1], y[0]), V::select(neg, z[1], z[0]));
-    V::select(x_major, x, V::select(y_major, y, z))
-}
-
 #[inline(always)]
 fn shadow_rays_body<V: F32s>(
     at: &PointLanes,
@@ -144,7 +135,7 @@ fn shadow_rays_body<V: F32s>(
 ) -> ShadowLanes {
     let zero = V::splat(0.0);
     let (mut counted, mut rays) = (0, 0);
-    let (mut kz0, mut kz1, mut negz) = (0, 0, 0);
+    let mut perm = Permutations::default();
     out.clear();
     for g in 0..LANES / V::W {
         if !group_active::<V>(valid, g) {
@@ -173,42 +164,15 @@ fn shadow_rays_body<V: F32s>(
             l[a].store(&mut dirs.l[a].0, g);
             origin[a].store(&mut out.o[a].0, g);
             d[a].store(&mut out.d[a].0, g);
-            let inv = V::splat(1.0).div(d[a]).max(V::splat(-1e30)).min(V::splat(1e30));
-            inv.store(&mut out.inv[a].0, g);
-            out.neg[a] |= group_bits::<V>(inv.lt(zero), g);
         }
         n_dot_l.store(&mut dirs.n_dot_l.0, g);
         zero.store(&mut out.t_min.0, g);
         max.store(&mut out.t_max.0, g);
-        // The triangle test's axis permutation and shear (RayQuery::new).
-        let abs = [d[0].copysign(zero), d[1].copysign(zero), d[2].copysign(zero)];
-        let x_major = V::and(abs[1].le(abs[0]), abs[2].le(abs[0]));
-        let y_major = V::andnot(x_major, abs[2].le(abs[1]));
-        let dz = V::select(x_major, d[0], V::select(y_major, d[1], d[2]));
-        let neg = dz.lt(zero);
-        let dx = pick(x_major, y_major, neg, [d[1], d[2]], [d[2], d[0]], [d[0], d[1]]);
-        let dy = pick(x_major, y_major, neg, [d[2], d[1]], [d[0], d[2]], [d[1], d[0]]);
-        dx.div(dz).store(&mut out.shear[0].0, g);
-        dy.div(dz).store(&mut out.shear[1].0, g);
-        V::splat(1.0).div(dz).store(&mut out.shear[2].0, g);
-        kz0 |= group_bits::<V>(x_major, g);
-        kz1 |= group_bits::<V>(y_major, g);
-        negz |= group_bits::<V>(neg, g);
+        perm.add::<V>(out, d, g);
     }
     let counted = counted & valid;
     let rays = rays & counted;
-    for i in 0..LANES {
-        let bit = |m: Mask| m >> i & 1 != 0;
-        let kz: u8 = if bit(kz0) {
-            0
-        } else if bit(kz1) {
-            1
-        } else {
-            2
-        };
-        let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
-        out.k[i] = if bit(negz) { [ky, kx, kz] } else { [kx, ky, kz] };
-    }
+    perm.finish(out);
     out.activate(rays);
     ShadowLanes { counted, rays }
 }

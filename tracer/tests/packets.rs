@@ -274,3 +274,37 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #[test]
+    fn packets_built_from_rays_hold_the_queries_of_the_rays(
+        rays in prop::collection::vec((prop::array::uniform3(-5.0f32..5.0), prop::array::uniform3(-1.0f32..1.0), 0.0f32..1.0), 1..=LANES),
+        axis in 0usize..4,
+    ) {
+        // Some directions along an axis, with negative zeros beside.
+        let rays: Vec<(Ray, f32, f32)> = rays
+            .iter()
+            .enumerate()
+            .filter_map(|(i, &(o, d, t_min))| {
+                let mut d = Vec3A::from(d);
+                if i % 3 == 0 && axis < 3 {
+                    d = Vec3A::from(std::array::from_fn::<f32, 3, _>(|a| if a == axis { -1.0 } else { -0.0 }));
+                }
+                (d.length() > 1e-3).then(|| (Ray::new(Vec3A::from(o), d), t_min, 10.0))
+            })
+            .collect();
+        let p = RayPacket::new(rays.iter().copied());
+        prop_assert_eq!(p.len(), rays.len());
+        let bits = |v: Vec3A| v.to_array().map(f32::to_bits);
+        for (i, &(ray, t_min, t_max)) in rays.iter().enumerate() {
+            let (got, want) = (p.query(i), RayQuery::new(ray, t_min));
+            prop_assert_eq!(bits(got.inv_d), bits(want.inv_d));
+            prop_assert_eq!(bits(got.shear), bits(want.shear));
+            prop_assert_eq!((got.neg, got.k, got.t_min.to_bits()), (want.neg, want.k, want.t_min.to_bits()));
+            prop_assert_eq!((bits(got.ray.o), bits(got.ray.d)), (bits(want.ray.o), bits(want.ray.d)));
+            prop_assert_eq!(p.t_max.0[i], t_max);
+        }
+        let ks: Vec<_> = rays.iter().map(|&(r, t, _)| RayQuery::new(r, t).k).collect();
+        prop_assert_eq!(p.shared_k, ks.iter().all(|k| *k == ks[0]).then_some(ks[0]));
+    }
+}
