@@ -10,7 +10,9 @@
 pub struct Token<'a> {
     pub text: &'a [u8],
     pub line: u32,
-    pub column: u32,
+    /// The token's line up to the token: its column is counted from this
+    /// only when a message needs it (see [`Token::column`]).
+    pub before: &'a [u8],
     /// The first token on its line (error recovery restarts at such tokens).
     pub starts_line: bool,
 }
@@ -25,6 +27,11 @@ impl Token<'_> {
         } else {
             s.into_owned()
         }
+    }
+
+    /// Column in characters, 1-based.
+    pub fn column(&self) -> u32 {
+        char_count(self.before) + 1
     }
 
     /// Width in characters, for underlining.
@@ -45,16 +52,15 @@ pub struct Lexer<'a> {
     line: u32,
     /// Line of the last token returned (0 before the first).
     last_line: u32,
-    /// The last token start on this line and its column: columns are
-    /// counted on from there, so a line is scanned once, not once a token.
-    column_at: (usize, u32),
+    /// Where the current line starts.
+    line_start: usize,
 }
 
 impl<'a> Lexer<'a> {
     /// A lexer over `src`, which begins at the start of line `line` of its
     /// file (1 for a whole file; later for a chunk of a large one).
     pub fn starting_at(src: &'a [u8], line: u32) -> Self {
-        Lexer { src, pos: 0, line, last_line: 0, column_at: (0, 1) }
+        Lexer { src, pos: 0, line, last_line: 0, line_start: 0 }
     }
 }
 
@@ -87,7 +93,7 @@ impl<'a> Iterator for Lexer<'a> {
                 NEWLINE => {
                     self.pos += 1;
                     self.line += 1;
-                    self.column_at = (self.pos, 1);
+                    self.line_start = self.pos;
                 }
                 SPACE => self.pos += 1,
                 COMMENT => {
@@ -100,12 +106,10 @@ impl<'a> Iterator for Lexer<'a> {
         let start = self.pos;
         self.pos +=
             src[start..].iter().position(|&b| CLASS[b as usize] != TOKEN).unwrap_or(src.len() - start);
-        let (from, column_from) = self.column_at;
-        let column = column_from + char_count(&src[from..start]);
-        self.column_at = (start, column);
         let starts_line = self.line != self.last_line;
         self.last_line = self.line;
-        Some(Token { text: &src[start..self.pos], line: self.line, column, starts_line })
+        let before = &src[self.line_start..start];
+        Some(Token { text: &src[start..self.pos], line: self.line, before, starts_line })
     }
 }
 
@@ -114,7 +118,7 @@ mod tests {
     use super::*;
 
     fn tokens(s: &str) -> Vec<(String, u32, u32)> {
-        Lexer::starting_at(s.as_bytes(), 1).map(|t| (t.display(), t.line, t.column)).collect()
+        Lexer::starting_at(s.as_bytes(), 1).map(|t| (t.display(), t.line, t.column())).collect()
     }
 
     #[test]
@@ -135,12 +139,12 @@ mod tests {
     }
 
     #[test]
-    fn incremental_columns_equal_counting_from_the_line_start() {
+    fn columns_equal_counting_from_the_line_start() {
         let src = "λ a  é#c é\n\t x   yy λλλ z\n\n  #\n q é é é\r\n w";
         for t in Lexer::starting_at(src.as_bytes(), 1) {
             let line = src.lines().nth(t.line as usize - 1).unwrap();
             let byte = t.text.as_ptr() as usize - line.as_ptr() as usize;
-            assert_eq!(t.column, line[..byte].chars().count() as u32 + 1, "{}", t.display());
+            assert_eq!(t.column(), line[..byte].chars().count() as u32 + 1, "{}", t.display());
         }
     }
 

@@ -238,7 +238,7 @@ impl<'a> Parser<'a> {
 
     /// Line and column just after the last token read ((1, 1) before any).
     fn eof(&self) -> (u32, u32) {
-        self.last.map_or((1, 1), |t| (t.line, t.column + t.width()))
+        self.last.map_or((1, 1), |t| (t.line, t.column() + t.width()))
     }
 
     fn peek(&mut self) -> Option<Token<'a>> {
@@ -260,7 +260,7 @@ impl<'a> Parser<'a> {
     }
 
     fn diag_at(&self, severity: Severity, t: &Token, message: String) -> Diagnostic {
-        Diagnostic { severity, line: t.line, column: t.column, width: t.width(), message, note: None }
+        Diagnostic { severity, line: t.line, column: t.column(), width: t.width(), message, note: None }
     }
 
     fn error_at(&self, t: &Token, message: String) -> Diagnostic {
