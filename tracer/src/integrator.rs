@@ -144,7 +144,7 @@ impl<I: Intersector> Whitted<'_, I> {
         let mut color = scene.ambient * sp.m.kd * sp.m.color;
         for k in 0..scene.lights.len() {
             let Some(lr) = self.light_ray(&sp, k, depth, id, &mut th.counters) else { continue };
-            if !self.cache_blocks(&lr, k, depth, th) && !self.blocked(&lr, k, depth, th) {
+            if !self.shadowed(&lr, k, depth, th) {
                 color += self.direct(&sp, k, lr.l, lr.n_dot_l);
             }
         }
@@ -172,6 +172,7 @@ impl<I: Intersector> Whitted<'_, I> {
         let mut hits = PacketHits::new(&packet);
         self.accel.intersect_packet(geom, &packet, &mut hits, &mut th.scratch, &mut th.counters);
         let mut points = [None; LANES];
+        let mut at = PointLanes::default();
         let mut color = [Vec3A::ZERO; LANES];
         for (i, o) in out.iter_mut().enumerate().take(rays.len()) {
             let Some(hit) = hits.get(i) else {
@@ -183,15 +184,10 @@ impl<I: Intersector> Whitted<'_, I> {
             }
             let sp = self.shade_point(&packet.query(i), &hit);
             color[i] = scene.ambient * sp.m.kd * sp.m.color;
-            points[i] = Some(sp);
-        }
-        let mut at = PointLanes::default();
-        for (i, sp) in points.iter().enumerate() {
-            if let Some(sp) = sp {
-                for a in 0..3 {
-                    (at.p[a].0[i], at.ng[a].0[i], at.ns[a].0[i]) = (sp.p[a], sp.ng[a], sp.ns[a]);
-                }
+            for a in 0..3 {
+                (at.p[a].0[i], at.ng[a].0[i], at.ns[a].0[i]) = (sp.p[a], sp.ng[a], sp.ns[a]);
             }
+            points[i] = Some(sp);
         }
         let mut shadow = RayPacket::new(std::iter::empty());
         for k in 0..scene.lights.len() {
@@ -421,27 +417,18 @@ impl<I: Intersector> Whitted<'_, I> {
         Some(LightRay { l, n_dot_l, query: RayQuery::new(ray, 0.0), max })
     }
 
-    /// Whether the shadow cache's primitive for (light, depth) blocks the
-    /// ray, counting a cache hit.
+    /// Whether anything blocks the shadow ray: the shadow cache's primitive
+    /// for (light, depth) first (counting a cache hit), then the
+    /// accelerator, whose blocker the cache remembers.
     #[inline]
-    fn cache_blocks(
-        &self,
-        lr: &LightRay,
-        light: usize,
-        depth: u32,
-        th: &mut ThreadState<I::Scratch>,
-    ) -> bool {
-        let Some(id) = th.shadow_cache.get(light, depth) else { return false };
-        let blocks = test_shadow(&self.scene.geometry, id, &lr.query, lr.max, &mut th.counters);
-        th.counters.shadow_cache_hits += u64::from(blocks);
-        blocks
-    }
-
-    /// Whether anything blocks the shadow ray, remembering the blocker in
-    /// the shadow cache.
-    #[inline]
-    fn blocked(&self, lr: &LightRay, light: usize, depth: u32, th: &mut ThreadState<I::Scratch>) -> bool {
+    fn shadowed(&self, lr: &LightRay, light: usize, depth: u32, th: &mut ThreadState<I::Scratch>) -> bool {
         let geom = &self.scene.geometry;
+        if let Some(id) = th.shadow_cache.get(light, depth) {
+            if test_shadow(geom, id, &lr.query, lr.max, &mut th.counters) {
+                th.counters.shadow_cache_hits += 1;
+                return true;
+            }
+        }
         match self.accel.occluder(geom, &lr.query, lr.max, &mut th.scratch, &mut th.counters) {
             Some(id) => {
                 th.shadow_cache.set(light, depth, id);

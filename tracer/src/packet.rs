@@ -101,9 +101,8 @@ impl RayPacket {
         }
         self.t_min.0[i] = q.t_min;
         self.t_max.0[i] = t_max;
-        self.shared_k = if self.active == 0 || self.shared_k == Some(q.k) { Some(q.k) } else { None };
-        self.active |= 1 << i;
         self.k[i] = q.k.map(|a| a as u8);
+        self.activate(self.active | 1 << i);
     }
 
     /// Lane `i`'s ray as a single-ray query (for the shapes and cases
@@ -237,6 +236,11 @@ crate::dispatch! {
 pub struct PacketHits {
     /// Distance of the best hit, or the lane's `t_max` while there is none.
     pub t: Lanes,
+    /// What a new hit must lie below: the rule of
+    /// [`crate::accel::test_prim`], `t_max` while there is no hit, then the
+    /// best distance nudged one ulp up (so that a lower id at equal
+    /// distance can still win). Kept beside `t` as hits are taken.
+    limit: Lanes,
     /// Barycentric of vertex 1 (triangles).
     pub u: Lanes,
     /// Barycentric of vertex 2 (triangles).
@@ -248,7 +252,8 @@ pub struct PacketHits {
 impl PacketHits {
     /// No hits yet for the rays of `p`.
     pub fn new(p: &RayPacket) -> PacketHits {
-        PacketHits { t: p.t_max, u: Lanes([0.0; LANES]), v: Lanes([0.0; LANES]), prim: [NO_PRIM; LANES] }
+        let zero = Lanes([0.0; LANES]);
+        PacketHits { t: p.t_max, limit: p.t_max, u: zero, v: zero, prim: [NO_PRIM; LANES] }
     }
 
     /// Lane `i`'s hit, if any.
@@ -262,35 +267,15 @@ impl PacketHits {
         })
     }
 
-    /// Make `h` lane `i`'s hit if it beats the one there.
+    /// Make `h` lane `i`'s hit if it beats the one there ([`Hit::beats`]).
     #[inline(always)]
     pub fn keep(&mut self, i: usize, h: Hit) {
         if h.beats(&self.get(i)) {
             self.t.0[i] = h.t;
+            self.limit.0[i] = f32::from_bits(h.t.to_bits().wrapping_add(1));
             self.prim[i] = h.prim;
             self.u.0[i] = h.u;
             self.v.0[i] = h.v;
-        }
-    }
-
-    /// Every lane's [`PacketHits::limit`].
-    #[inline(always)]
-    fn limits(&self, out: &mut [f32; LANES]) {
-        for (i, l) in out.iter_mut().enumerate() {
-            *l = self.limit(i);
-        }
-    }
-
-    /// The single-ray rule of [`crate::accel::test_prim`]: a new hit must
-    /// lie below the best distance, nudged one ulp up once there is a hit so
-    /// that a lower id at equal distance can still win.
-    #[inline(always)]
-    fn limit(&self, i: usize) -> f32 {
-        let t = self.t.0[i];
-        if self.prim[i] == NO_PRIM {
-            t
-        } else {
-            f32::from_bits(t.to_bits().wrapping_add(1))
         }
     }
 
@@ -298,7 +283,7 @@ impl PacketHits {
     /// shapes and cases without a lane-wise test).
     #[inline(always)]
     pub fn test_scalar(&mut self, geom: &Geometry, id: u32, q: &RayQuery, i: usize) {
-        if let Some(h) = geom.intersect(id, q, self.limit(i)) {
+        if let Some(h) = geom.intersect(id, q, self.limit.0[i]) {
             self.keep(i, h);
         }
     }
@@ -322,17 +307,13 @@ pub fn test_prim_packet<V: F32s>(
     let cull = if geom.any_cull { geom.info[id as usize].cull } else { Cull::None };
     match kind {
         Kind::Sphere => {
-            let mut limit = [0.0f32; LANES];
-            hits.limits(&mut limit);
             let mut t = [0.0f32; LANES];
-            let found = sphere_lanes::<V>(&geom.spheres[index], p, mask, &limit, cull, &mut t);
+            let found = sphere_lanes::<V>(&geom.spheres[index], p, mask, &hits.limit.0, cull, &mut t);
             accept(id, mask & found, &t, hits, None);
         }
         Kind::Triangle if p.shared_k.is_some() => {
-            let mut limit = [0.0f32; LANES];
-            hits.limits(&mut limit);
             let mut out = TriangleLanes::default();
-            triangle_lanes::<V>(&geom.triangles[index], p, mask, &limit, cull, &mut out);
+            triangle_lanes::<V>(&geom.triangles[index], p, mask, &hits.limit.0, cull, &mut out);
             accept(id, mask & out.found, &out.t, hits, Some((&out.u, &out.v)));
             for_lanes(mask & out.slow, |i| hits.test_scalar(geom, id, &p.query(i), i));
         }
@@ -393,8 +374,7 @@ pub fn for_lanes(mut mask: Mask, mut f: impl FnMut(usize)) {
     }
 }
 
-/// Keep the hits of `found` lanes that beat the lane's best (the rule of
-/// [`Hit::beats`]).
+/// Keep the hits of `found` lanes that beat the lane's best.
 #[inline(always)]
 fn accept(
     id: u32,
@@ -404,13 +384,8 @@ fn accept(
     uv: Option<(&[f32; LANES], &[f32; LANES])>,
 ) {
     for_lanes(found, |i| {
-        if t[i] < hits.t.0[i] || (t[i] == hits.t.0[i] && id < hits.prim[i]) {
-            hits.t.0[i] = t[i];
-            hits.prim[i] = id;
-            let (u, v) = uv.map_or((0.0, 0.0), |(u, v)| (u[i], v[i]));
-            hits.u.0[i] = u;
-            hits.v.0[i] = v;
-        }
+        let (u, v) = uv.map_or((0.0, 0.0), |(u, v)| (u[i], v[i]));
+        hits.keep(i, Hit { t: t[i], prim: id, u, v });
     });
 }
 

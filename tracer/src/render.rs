@@ -237,8 +237,29 @@ fn render_with<I: Intersector>(
     RenderOutput { seconds: t0.elapsed().as_secs_f64(), ..out }
 }
 
-/// One eye ray per point of `pts` (from `ray_at`), as one packet when
-/// packets are on.
+/// Radiance along up to [`LANES`] eye rays (`(ray, t_min, weight)` of
+/// sample `ids[i]`) into `out`: as one packet when packets are on, else one
+/// by one. The colours are the same either way.
+#[inline]
+fn trace_eye<I: Intersector>(
+    shader: &Whitted<I>,
+    settings: &RenderSettings,
+    rays: &[(Ray, f32, f32)],
+    ids: &[SampleId],
+    th: &mut ThreadState<I::Scratch>,
+    out: &mut [Vec3A],
+) {
+    th.counters.eye += rays.len() as u64;
+    if settings.packets && rays.len() > 1 {
+        shader.li_packet(rays, 1, ids, th, out);
+    } else {
+        for ((&(ray, t_min, weight), &id), o) in rays.iter().zip(ids).zip(out) {
+            *o = shader.li(ray, t_min, 1, weight, id, th);
+        }
+    }
+}
+
+/// One eye ray per point of `pts` (from `ray_at`), traced together.
 #[inline]
 fn eye_rays<I: Intersector>(
     shader: &Whitted<I>,
@@ -248,28 +269,19 @@ fn eye_rays<I: Intersector>(
     out: &mut [Vec3A],
     ray_at: impl Fn(u32, u32) -> (Ray, f32),
 ) {
-    th.counters.eye += pts.len() as u64;
-    let id = |&(px, py): &(u32, u32)| SampleId { px, py, index: 0 };
-    if settings.packets && pts.len() > 1 {
-        let mut rays = [(Ray { o: Vec3A::ZERO, d: Vec3A::Z }, 0.0, 1.0); LANES];
-        let mut ids = [SampleId { px: 0, py: 0, index: 0 }; LANES];
-        for (i, p) in pts.iter().enumerate() {
-            let (ray, t_min) = ray_at(p.0, p.1);
-            rays[i] = (ray, t_min, 1.0);
-            ids[i] = id(p);
-        }
-        shader.li_packet(&rays[..pts.len()], 1, &ids[..pts.len()], th, out);
-    } else {
-        for (p, o) in pts.iter().zip(out.iter_mut()) {
-            let (ray, t_min) = ray_at(p.0, p.1);
-            *o = shader.li(ray, t_min, 1, 1.0, id(p), th);
-        }
+    let mut rays = [(Ray { o: Vec3A::ZERO, d: Vec3A::Z }, 0.0, 1.0); LANES];
+    let mut ids = [SampleId { px: 0, py: 0, index: 0 }; LANES];
+    for (i, &(px, py)) in pts.iter().enumerate() {
+        let (ray, t_min) = ray_at(px, py);
+        rays[i] = (ray, t_min, 1.0);
+        ids[i] = SampleId { px, py, index: 0 };
     }
+    let n = pts.len();
+    trace_eye(shader, settings, &rays[..n], &ids[..n], th, out);
 }
 
-/// One pixel: its samples through the filter, weighted by the filter's sign.
-/// With packets on, up to [`LANES`] samples are traced together; the sum
-/// is taken in sample order either way, so the colour is the same.
+/// One pixel: its samples through the filter, weighted by the filter's sign,
+/// traced [`LANES`] at a time (as packets when packets are on).
 #[inline]
 fn pixel<I: Intersector>(
     shader: &Whitted<I>,
@@ -282,9 +294,11 @@ fn pixel<I: Intersector>(
     let camera = &shader.scene.camera;
     let sampler = &settings.sampler;
     if settings.pixel_centre_only(camera) {
-        let (ray, t_min) = camera.ray(px as f32 + 0.5, py as f32 + 0.5, Vec2::ZERO);
-        th.counters.eye += 1;
-        return shader.li(ray, t_min, 1, 1.0, SampleId { px, py, index: 0 }, th);
+        let mut color = [Vec3A::ZERO];
+        eye_rays(shader, settings, &[(px, py)], th, &mut color, |x, y| {
+            camera.ray(x as f32 + 0.5, y as f32 + 0.5, Vec2::ZERO)
+        });
+        return color[0];
     }
     let (mut sum, mut weights) = (Vec3A::ZERO, 0.0);
     // The pixel's patterns once; a pinhole camera ignores the lens sample.
@@ -295,31 +309,23 @@ fn pixel<I: Intersector>(
         let lens = lens.map_or(Vec2::ZERO, |p| concentric_disk(sampler.sample_of(p, index)));
         (camera.ray(px as f32 + 0.5 + offset.x, py as f32 + 0.5 + offset.y, lens), weight)
     };
-    th.counters.eye += u64::from(sampler.spp);
-    if settings.packets && sampler.spp > 1 {
-        let mut rays = [(Ray { o: Vec3A::ZERO, d: Vec3A::Z }, 0.0, 1.0); LANES];
-        let mut ids = [SampleId { px, py, index: 0 }; LANES];
-        let mut w = [0.0f32; LANES];
-        let mut colors = [Vec3A::ZERO; LANES];
-        for first in (0..sampler.spp).step_by(LANES) {
-            let n = (sampler.spp - first).min(LANES as u32) as usize;
-            for i in 0..n {
-                let index = first + i as u32;
-                let ((ray, t_min), weight) = sample(index);
-                (rays[i], w[i]) = ((ray, t_min, 1.0), weight);
-                ids[i].index = index;
-            }
-            shader.li_packet(&rays[..n], 1, &ids[..n], th, &mut colors);
-            for i in 0..n {
-                sum += w[i] * colors[i];
-                weights += w[i];
-            }
-        }
-    } else {
-        for index in 0..sampler.spp {
+    // Up to LANES samples at a time; the sum is taken in sample order.
+    let mut rays = [(Ray { o: Vec3A::ZERO, d: Vec3A::Z }, 0.0, 1.0); LANES];
+    let mut ids = [SampleId { px, py, index: 0 }; LANES];
+    let mut w = [0.0f32; LANES];
+    let mut colors = [Vec3A::ZERO; LANES];
+    for first in (0..sampler.spp).step_by(LANES) {
+        let n = (sampler.spp - first).min(LANES as u32) as usize;
+        for i in 0..n {
+            let index = first + i as u32;
             let ((ray, t_min), weight) = sample(index);
-            sum += weight * shader.li(ray, t_min, 1, 1.0, SampleId { px, py, index }, th);
-            weights += weight;
+            (rays[i], w[i]) = ((ray, t_min, 1.0), weight);
+            ids[i].index = index;
+        }
+        trace_eye(shader, settings, &rays[..n], &ids[..n], th, &mut colors);
+        for i in 0..n {
+            sum += w[i] * colors[i];
+            weights += w[i];
         }
     }
     if weights > 0.5 {

@@ -20,7 +20,6 @@ use wide::{Entry, Ray4, STACK};
 
 /// Per-thread traversal stacks, allocated once: one for single rays, one
 /// for packets.
-#[derive(Default)]
 pub struct Stacks {
     single: Vec<Entry>,
     packet: Vec<PacketEntry>,

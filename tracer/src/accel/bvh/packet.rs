@@ -23,20 +23,19 @@ use crate::stats::Counters;
 /// 0.87 and 0.91 s, at most 4 lanes 0.92 and 0.99 s.
 const SINGLE_AT_MOST: u32 = 2;
 
-/// An entry of the packet traversal stack: a node or a leaf, the lanes that
-/// entered its box, and the nearest of their entry distances.
+/// An entry of the packet traversal stack: a node or a leaf with the
+/// nearest entry distance of the lanes that entered its box (a single-ray
+/// [`Entry`], from which those lanes can go on alone), and those lanes.
 #[derive(Clone, Copy, Default)]
 pub struct PacketEntry {
-    child: u32,
-    count: u32,
+    entry: Entry,
     mask: Mask,
-    t: f32,
 }
 
 impl Bvh {
     /// The leaf's primitive ids.
     #[inline(always)]
-    fn leaf(&self, e: &PacketEntry) -> &[u32] {
+    fn leaf(&self, e: &Entry) -> &[u32] {
         &self.prims[e.child as usize..(e.child + e.count) as usize]
     }
 
@@ -60,8 +59,7 @@ impl Bvh {
             n += 1;
         }
         for &slot in &order[..n] {
-            let e = node.entry(slot, near[slot]);
-            stack[*sp] = PacketEntry { child: e.child, count: e.count, mask: masks[slot], t: near[slot] };
+            stack[*sp] = PacketEntry { entry: node.entry(slot, near[slot]), mask: masks[slot] };
             *sp += 1;
         }
     }
@@ -81,26 +79,25 @@ fn intersect_body<V: F32s>(
         return;
     }
     let Stacks { single, packet: stack } = stacks;
-    stack[0] = PacketEntry { child: 0, count: 0, mask: p.active, t: f32::NEG_INFINITY };
+    stack[0] = PacketEntry { entry: Entry { child: 0, count: 0, t: f32::NEG_INFINITY }, mask: p.active };
     let mut sp = 1;
     while sp > 0 {
         sp -= 1;
-        let e = stack[sp];
+        let PacketEntry { entry: e, mask } = stack[sp];
         // Lanes whose best hit is nearer than the box cannot improve in it.
         let mut keep: Mask = 0;
         for g in 0..LANES / V::W {
             keep |= group_bits::<V>(V::splat(e.t).le(V::load(&hits.t.0, g)), g);
         }
-        let mask = e.mask & keep;
+        let mask = mask & keep;
         if mask == 0 {
             continue;
         }
         if mask.count_ones() <= SINGLE_AT_MOST {
             // Too few lanes left for vectors to pay: finish them alone.
             for_lanes(mask, |i| {
-                let start = Entry { child: e.child, count: e.count, t: e.t };
                 let (q, t_max) = (&p.query(i), p.t_max.0[i]);
-                if let Some(h) = bvh.nearest_from(start, geom, q, t_max, hits.get(i), single, c) {
+                if let Some(h) = bvh.nearest_from(e, geom, q, t_max, hits.get(i), single, c) {
                     hits.keep(i, h);
                 }
             });
@@ -134,20 +131,19 @@ fn occluders_body<V: F32s>(
         return;
     }
     let Stacks { single, packet: stack } = stacks;
-    stack[0] = PacketEntry { child: 0, count: 0, mask: alive, t: 0.0 };
+    stack[0] = PacketEntry { entry: Entry { child: 0, count: 0, t: 0.0 }, mask: alive };
     let mut sp = 1;
     while sp > 0 {
         sp -= 1;
-        let e = stack[sp];
-        let mut mask = e.mask & alive;
+        let PacketEntry { entry: e, mask } = stack[sp];
+        let mut mask = mask & alive;
         if mask == 0 {
             continue;
         }
         if mask.count_ones() <= SINGLE_AT_MOST {
             for_lanes(mask, |i| {
-                let start = Entry { child: e.child, count: e.count, t: e.t };
                 let (q, t_max) = (&p.query(i), p.t_max.0[i]);
-                if let Some(id) = bvh.occluder_from(start, geom, q, t_max, single, c) {
+                if let Some(id) = bvh.occluder_from(e, geom, q, t_max, single, c) {
                     out[i] = id;
                     alive &= !(1 << i);
                 }
@@ -177,8 +173,7 @@ fn occluders_body<V: F32s>(
         let (masks, _) = node.hit_packet::<V, false>(p, &p.t_max.0, mask);
         for (slot, &m) in masks.iter().enumerate() {
             if m != 0 {
-                let e = node.entry(slot, 0.0);
-                stack[sp] = PacketEntry { child: e.child, count: e.count, mask: m, t: 0.0 };
+                stack[sp] = PacketEntry { entry: node.entry(slot, 0.0), mask: m };
                 sp += 1;
             }
         }
