@@ -5,6 +5,10 @@
 //! sequence is accepted: a token that is not UTF-8 is reported by the parser
 //! like any other unexpected token.
 
+use super::number::number_prefix;
+#[cfg(test)]
+use super::number::parse_number;
+
 /// A token: its bytes and where it starts.
 #[derive(Debug, Clone, Copy)]
 pub struct Token<'a> {
@@ -82,14 +86,15 @@ const CLASS: [u8; 256] = {
     c
 };
 
-impl<'a> Iterator for Lexer<'a> {
-    type Item = Token<'a>;
-
+impl<'a> Lexer<'a> {
+    /// Skip whitespace and comments up to the next token; `false` at the
+    /// end of the source.
     #[inline]
-    fn next(&mut self) -> Option<Token<'a>> {
+    fn skip_space(&mut self) -> bool {
         let src = self.src;
         loop {
-            match CLASS[*src.get(self.pos)? as usize] {
+            let Some(&b) = src.get(self.pos) else { return false };
+            match CLASS[b as usize] {
                 NEWLINE => {
                     self.pos += 1;
                     self.line += 1;
@@ -100,16 +105,54 @@ impl<'a> Iterator for Lexer<'a> {
                     self.pos +=
                         src[self.pos..].iter().position(|&b| b == b'\n').unwrap_or(src.len() - self.pos);
                 }
-                _ => break,
+                _ => return true,
             }
         }
+    }
+
+    /// The token from `start` to the current position.
+    #[inline]
+    fn token(&mut self, start: usize) -> Token<'a> {
+        let starts_line = self.line != self.last_line;
+        self.last_line = self.line;
+        let before = &self.src[self.line_start..start];
+        Token { text: &self.src[start..self.pos], line: self.line, before, starts_line }
+    }
+
+    /// The next token and its value if the token is a number, both found in
+    /// one pass over its bytes (the reader's hot path: NFF is mostly
+    /// numbers). Otherwise `None`, having consumed only the whitespace
+    /// before the token, so [`Iterator::next`] returns it as usual. The
+    /// value is the one [`parse_number`] gives for the token.
+    #[inline]
+    pub fn number(&mut self) -> Option<(f64, Token<'a>)> {
+        if !self.skip_space() {
+            return None;
+        }
+        let start = self.pos;
+        let (value, len) = number_prefix(&self.src[start..])?;
+        // A number glued to more token bytes (`1.5x`, `1e`) is not one.
+        if self.src.get(start + len).is_some_and(|&b| CLASS[b as usize] == TOKEN) {
+            return None;
+        }
+        self.pos = start + len;
+        Some((value, self.token(start)))
+    }
+}
+
+impl<'a> Iterator for Lexer<'a> {
+    type Item = Token<'a>;
+
+    #[inline]
+    fn next(&mut self) -> Option<Token<'a>> {
+        if !self.skip_space() {
+            return None;
+        }
+        let src = self.src;
         let start = self.pos;
         self.pos +=
             src[start..].iter().position(|&b| CLASS[b as usize] != TOKEN).unwrap_or(src.len() - start);
-        let starts_line = self.line != self.last_line;
-        self.last_line = self.line;
-        let before = &src[self.line_start..start];
-        Some(Token { text: &src[start..self.pos], line: self.line, before, starts_line })
+        Some(self.token(start))
     }
 }
 
@@ -145,6 +188,31 @@ mod tests {
             let line = src.lines().nth(t.line as usize - 1).unwrap();
             let byte = t.text.as_ptr() as usize - line.as_ptr() as usize;
             assert_eq!(t.column(), line[..byte].chars().count() as u32 + 1, "{}", t.display());
+        }
+    }
+
+    proptest::proptest! {
+        /// Reading numbers in one pass finds the tokens, positions and
+        /// values that tokenising and then parsing find.
+        #[test]
+        fn numbers_read_in_one_pass_match_tokens_then_parse(src in "[0-9.eE+x#\\- \n\t]{0,40}") {
+            let plain: Vec<_> = Lexer::starting_at(src.as_bytes(), 1)
+                .map(|t| (t.text, t.line, t.column(), t.starts_line, parse_number(t.text).map(f64::to_bits)))
+                .collect();
+            let mut fused = Vec::new();
+            let mut lexer = Lexer::starting_at(src.as_bytes(), 1);
+            loop {
+                if let Some((v, t)) = lexer.number() {
+                    fused.push((t.text, t.line, t.column(), t.starts_line, Some(v.to_bits())));
+                } else if let Some(t) = lexer.next() {
+                    // Not a number by the fast path: must not be one at all.
+                    fused.push((t.text, t.line, t.column(), t.starts_line, parse_number(t.text).map(f64::to_bits)));
+                    proptest::prop_assert!(fused.last().unwrap().4.is_none(), "{:?}", src);
+                } else {
+                    break;
+                }
+            }
+            proptest::prop_assert_eq!(plain, fused);
         }
     }
 

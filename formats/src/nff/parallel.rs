@@ -13,8 +13,9 @@
 //! back to the sequential reader, so the result and the diagnostics are
 //! always exactly those of reading it in one piece.
 
-use super::parse::{parse_chunk, ParseOptions, Parsed, ENTITY_KEYWORDS};
+use super::parse::{parse_chunk, primitives_hint, ParseOptions, Parsed, ENTITY_KEYWORDS};
 use crate::scene::Scene;
+use rayon::prelude::*;
 
 /// Files at least this large are read in parallel.
 pub const PARALLEL_MIN_BYTES: usize = 1 << 20;
@@ -50,9 +51,13 @@ pub fn parse_in_chunks(src: &[u8], opts: &ParseOptions, chunks: usize) -> Option
     let parts: Vec<(Scene, bool)> = std::thread::scope(|scope| {
         let handles: Vec<_> = pieces
             .iter()
-            .map(|&(piece, line)| {
+            .enumerate()
+            .map(|(i, &(piece, line))| {
+                // The first chunk's list becomes the whole file's (see
+                // `join`), so it is given room for all of it.
+                let room = primitives_hint(if i == 0 { src.len() } else { piece.len() });
                 scope.spawn(move || {
-                    let (scene, diags) = parse_chunk(piece, line, opts);
+                    let (scene, diags) = parse_chunk(piece, line, opts, room);
                     (scene, diags.is_empty())
                 })
             })
@@ -97,10 +102,16 @@ fn next_entity_line(src: &[u8], from: usize) -> Option<usize> {
 /// Join chunk scenes in order, or `None` if the sequential reader would
 /// have said something the chunks could not (module doc).
 fn join(parts: Vec<(Scene, bool)>, opts: &ParseOptions) -> Option<Parsed> {
-    let mut scene = Scene::default();
-    // One allocation for every primitive, so joining copies each part once
-    // and never holds two growing copies of the whole list.
-    scene.primitives.reserve_exact(parts.iter().map(|(p, _)| p.primitives.len()).sum());
+    let total = parts.iter().map(|(p, _)| p.primitives.len()).sum::<usize>();
+    let mut parts = parts.into_iter();
+    // The first chunk is the scene so far (its materials need no
+    // renumbering); its list grows in place to hold every primitive, so the
+    // join copies only the later chunks, each once.
+    let (mut scene, quiet) = parts.next()?;
+    if !quiet {
+        return None;
+    }
+    scene.primitives.reserve_exact(total - scene.primitives.len());
     for (part, quiet) in parts {
         let objects_before = !scene.primitives.is_empty();
         if !quiet
@@ -111,7 +122,9 @@ fn join(parts: Vec<(Scene, bool)>, opts: &ParseOptions) -> Option<Parsed> {
         }
         let offset = scene.materials.len() as u32;
         let inherited = offset.checked_sub(1);
-        scene.primitives.extend(part.primitives.into_iter().map(|mut p| {
+        // Copied on every core: the copy's cost is mostly the kernel
+        // handing out fresh pages, which both cores can do at once.
+        scene.primitives.par_extend(part.primitives.into_par_iter().map(|mut p| {
             p.material = p.material.map(|m| m + offset).or(inherited);
             p
         }));
