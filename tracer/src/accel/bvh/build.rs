@@ -26,6 +26,7 @@ pub struct BvhNode {
 }
 
 const _: () = assert!(std::mem::size_of::<BvhNode>() == 32);
+const _: () = assert!(std::mem::size_of::<BuildPrim>() == 32);
 
 /// Deepest tree the traversal stack can hold; the builder makes leaves there.
 const MAX_DEPTH: usize = 64;
@@ -34,12 +35,14 @@ const BINS: usize = 16;
 /// Fewest bins per axis (small nodes).
 const MIN_BINS: usize = 4;
 
-/// Bins for a node of `n` primitives: a small node gains nothing from 16
-/// bins, and sweeping 3 x 16 bins per node would dominate the build of a
-/// scene with many small nodes (half a million spheres make 300,000 nodes).
+/// Bins for a node of `n` primitives: 4, 8 or 16 by its size. A small
+/// node gains nothing from 16 bins, and with half a million spheres there
+/// are 300,000 small nodes, so setting up and sweeping 3 x 16 bins for each
+/// would be most of the build; the bin arrays are sized to the count
+/// ([`split_with`] is compiled for each).
 #[inline]
 fn bin_count(n: usize) -> usize {
-    (n / 2).clamp(MIN_BINS, BINS)
+    (n / 2).clamp(MIN_BINS, BINS).next_power_of_two().min(BINS)
 }
 /// Leaves never hold more than this unless the primitives cannot be split.
 const MAX_LEAF: usize = 4;
@@ -60,18 +63,43 @@ impl BvhNode {
     }
 }
 
-/// A primitive's box and its id: 48 bytes.
+/// A primitive's box and its id: 32 bytes, aligned so that moving one is
+/// two aligned 16-byte copies (the partition swaps one per primitive per
+/// level; at 28 bytes the swap went through overlapping stack copies that
+/// defeated store forwarding, a fifth of the build).
 #[derive(Clone, Copy)]
+#[repr(C, align(16))]
 struct BuildPrim {
-    bounds: Aabb,
+    min: [f32; 3],
     id: u32,
+    max: [f32; 3],
 }
 
 impl BuildPrim {
     #[inline(always)]
-    fn centroid(&self) -> Vec3A {
-        self.bounds.center()
+    fn new(bounds: Aabb, id: u32) -> BuildPrim {
+        BuildPrim { min: bounds.min.into(), id, max: bounds.max.into() }
     }
+
+    #[inline(always)]
+    fn bounds(&self) -> Aabb {
+        Aabb { min: Vec3A::from_array(self.min), max: Vec3A::from_array(self.max) }
+    }
+
+    /// Twice the centre of the box: binning only compares centroids, so
+    /// the halving is left out.
+    #[inline(always)]
+    fn centroid(&self) -> Vec3A {
+        Vec3A::from_array(self.min) + Vec3A::from_array(self.max)
+    }
+}
+
+/// A range's box and the box of its primitives' centroids (doubled, as
+/// [`BuildPrim::centroid`] gives them).
+#[derive(Clone, Copy)]
+struct Boxes {
+    bounds: Aabb,
+    centroids: Aabb,
 }
 
 #[derive(Clone, Copy)]
@@ -89,6 +117,7 @@ struct Task {
     depth: usize,
     /// Interior node whose `link` must point at this subtree (right child).
     parent: Option<usize>,
+    boxes: Boxes,
 }
 
 /// The binary tree over every primitive of `geom` and the primitive ids in
@@ -96,40 +125,58 @@ struct Task {
 pub fn build_binary(geom: &Geometry) -> (Vec<BvhNode>, Vec<u32>) {
     let mut prims: Vec<BuildPrim> = (0..geom.bounded_len() as u32)
         .into_par_iter()
-        .map(|id| {
-            let bounds = geom.bounds(id);
-            BuildPrim { bounds, id }
-        })
+        .map(|id| BuildPrim::new(geom.bounds(id), id))
         .collect();
-    let nodes = if prims.is_empty() { Vec::new() } else { build_subtree(&mut prims, 0, 0) };
+    let nodes = if prims.is_empty() {
+        Vec::new()
+    } else {
+        let boxes = boxes_of(&prims);
+        concat(build_subtree(&mut prims, 0, 0, boxes))
+    };
     (nodes, prims.iter().map(|p| p.id).collect())
 }
 
 /// Subtrees larger than this are split and their halves built in parallel.
 const PARALLEL_BUILD: usize = 1 << 16;
 
+/// Part of the node array, built on one thread: its interior links count
+/// from its own first node.
+type Part = Vec<BvhNode>;
+
 /// Build the subtree over `prims` (which start at `offset` in the whole
-/// array) at `depth`. Links of interior nodes are relative to the returned
-/// vector; leaf links are absolute. Large subtrees split once here and build
-/// their halves on both cores; the tree is the same as a sequential build.
-fn build_subtree(prims: &mut [BuildPrim], offset: usize, depth: usize) -> Vec<BvhNode> {
+/// array, and whose boxes are `boxes`) at `depth`, as parts that follow
+/// each other in the node array. Leaf links are absolute. Large subtrees
+/// split once here and build their halves on both cores; the tree is the
+/// same as a sequential build.
+fn build_subtree(prims: &mut [BuildPrim], offset: usize, depth: usize, boxes: Boxes) -> Vec<Part> {
     if prims.len() <= PARALLEL_BUILD || depth + 1 >= MAX_DEPTH {
         let mut nodes = Vec::with_capacity(prims.len());
-        build_nodes(prims, offset, depth, &mut nodes);
-        return nodes;
+        build_nodes(prims, offset, depth, boxes, &mut nodes);
+        return vec![nodes];
     }
-    let (bounds, cb) = bounds_of(prims);
-    let node = |count| BvhNode { min: bounds.min.into(), link: offset as u32, max: bounds.max.into(), count };
-    let Some(mid) = sah_split(prims, &bounds, &cb) else {
-        return vec![node(prims.len() as u32)];
+    let b = boxes.bounds;
+    let node = |count| BvhNode { min: b.min.into(), link: offset as u32, max: b.max.into(), count };
+    let Some(split) = sah_split(prims, &boxes) else {
+        return vec![vec![node(prims.len() as u32)]];
     };
-    let (lp, rp) = prims.split_at_mut(mid);
-    let (left, right) =
-        rayon::join(|| build_subtree(lp, offset, depth + 1), || build_subtree(rp, offset + mid, depth + 1));
-    let mut nodes = Vec::with_capacity(1 + left.len() + right.len());
-    nodes.push(BvhNode { link: (1 + left.len()) as u32, ..node(0) });
-    for part in [left, right] {
-        // The part's interior links were relative to its own first node.
+    let (lp, rp) = prims.split_at_mut(split.mid);
+    let (left, right) = rayon::join(
+        || build_subtree(lp, offset, depth + 1, split.left),
+        || build_subtree(rp, offset + split.mid, depth + 1, split.right),
+    );
+    let left_len: usize = left.iter().map(Vec::len).sum();
+    let mut parts = Vec::with_capacity(1 + left.len() + right.len());
+    parts.push(vec![BvhNode { link: (1 + left_len) as u32, ..node(0) }]);
+    parts.extend(left);
+    parts.extend(right);
+    parts
+}
+
+/// The parts in one array, their interior links made absolute: each node
+/// is copied once, however many levels were built in parallel.
+fn concat(parts: Vec<Part>) -> Vec<BvhNode> {
+    let mut nodes = Vec::with_capacity(parts.iter().map(Vec::len).sum());
+    for part in parts {
         let base = nodes.len() as u32;
         nodes.extend(part.into_iter().map(|mut n| {
             if !n.is_leaf() {
@@ -144,87 +191,114 @@ fn build_subtree(prims: &mut [BuildPrim], offset: usize, depth: usize) -> Vec<Bv
 /// Iterative depth-first build: the left child is always built right after
 /// its parent, so it sits at `parent + 1`. Interior links are indices into
 /// `nodes`; leaf links are `offset +` positions in `prims`.
-fn build_nodes(prims: &mut [BuildPrim], offset: usize, depth: usize, nodes: &mut Vec<BvhNode>) {
-    let mut stack = vec![Task { start: 0, end: prims.len(), depth, parent: None }];
+fn build_nodes(prims: &mut [BuildPrim], offset: usize, depth: usize, boxes: Boxes, nodes: &mut Vec<BvhNode>) {
+    let mut stack = vec![Task { start: 0, end: prims.len(), depth, parent: None, boxes }];
     while let Some(task) = stack.pop() {
         let index = nodes.len();
         if let Some(p) = task.parent {
             nodes[p].link = index as u32;
         }
         let range = &mut prims[task.start..task.end];
-        let (bounds, cb) = bounds_of(range);
-        let mut node = BvhNode {
-            min: bounds.min.into(),
-            link: (offset + task.start) as u32,
-            max: bounds.max.into(),
-            count: 0,
-        };
-        let split = if task.depth + 1 >= MAX_DEPTH { None } else { sah_split(range, &bounds, &cb) };
+        let b = task.boxes.bounds;
+        let mut node =
+            BvhNode { min: b.min.into(), link: (offset + task.start) as u32, max: b.max.into(), count: 0 };
+        let split = if task.depth + 1 >= MAX_DEPTH { None } else { sah_split(range, &task.boxes) };
         match split {
             None => {
                 node.count = range.len() as u32;
                 nodes.push(node);
             }
-            Some(mid) => {
+            Some(split) => {
                 nodes.push(node);
-                let mid = task.start + mid;
+                let mid = task.start + split.mid;
                 let depth = task.depth + 1;
-                stack.push(Task { start: mid, end: task.end, depth, parent: Some(index) });
-                stack.push(Task { start: task.start, end: mid, depth, parent: None });
+                stack.push(Task {
+                    start: mid,
+                    end: task.end,
+                    depth,
+                    parent: Some(index),
+                    boxes: split.right,
+                });
+                stack.push(Task { start: task.start, end: mid, depth, parent: None, boxes: split.left });
             }
         }
     }
 }
 
+/// A range split in two: the size of the left part and both parts' boxes.
+struct Split {
+    mid: usize,
+    left: Boxes,
+    right: Boxes,
+}
+
 /// Partition `prims` by the cheapest binned SAH split; `None` when a leaf is
-/// cheaper (or nothing can be split). Returns the size of the left part.
-fn sah_split(prims: &mut [BuildPrim], bounds: &Aabb, cb: &Aabb) -> Option<usize> {
+/// cheaper (or nothing can be split). The parts' boxes come from the split
+/// itself: their bounds are unions of bins, their centroid bounds are
+/// gathered by the partition, so no level reads its primitives twice.
+fn sah_split(prims: &mut [BuildPrim], boxes: &Boxes) -> Option<Split> {
     let n = prims.len();
     if n <= 2 {
         return None;
     }
+    match bin_count(n) {
+        4 => split_with::<4>(prims, boxes),
+        8 => split_with::<8>(prims, boxes),
+        _ => split_with::<BINS>(prims, boxes),
+    }
+}
+
+/// [`sah_split`] with `NB` bins per axis.
+fn split_with<const NB: usize>(prims: &mut [BuildPrim], boxes: &Boxes) -> Option<Split> {
+    let n = prims.len();
+    let cb = &boxes.centroids;
     let extent = cb.size();
-    let mut best: Option<(f32, usize, usize)> = None; // cost, axis, bin
-    let nb = bin_count(n);
-    let all_bins = bin_all(prims, cb, nb);
+    // cost, axis, bin, left bounds, right bounds
+    let mut best: Option<(f32, usize, usize, Aabb, Aabb)> = None;
+    let all_bins = bin_all::<NB>(prims, cb);
     for axis in 0..3 {
         if extent[axis] <= 0.0 {
             continue;
         }
         let bins = &all_bins[axis];
-        // Sweep from the right to get right-side areas and counts.
-        let mut right_area = [0.0f32; BINS];
-        let mut right_count = [0u32; BINS];
+        // Sweep from the right to get right-side boxes and counts.
+        let mut right_box = [Aabb::EMPTY; NB];
+        let mut right_count = [0u32; NB];
         let (mut rb, mut rc) = (Aabb::EMPTY, 0);
-        for i in (1..nb).rev() {
+        for i in (1..NB).rev() {
             rb = rb.union(bins[i].bounds);
             rc += bins[i].count;
-            right_area[i] = rb.half_area();
+            right_box[i] = rb;
             right_count[i] = rc;
         }
         let (mut lb, mut lc) = (Aabb::EMPTY, 0);
-        for i in 0..nb - 1 {
+        for i in 0..NB - 1 {
             lb = lb.union(bins[i].bounds);
             lc += bins[i].count;
             if lc == 0 || right_count[i + 1] == 0 {
                 continue;
             }
-            let cost = lc as f32 * lb.half_area() + right_count[i + 1] as f32 * right_area[i + 1];
-            if best.is_none_or(|b| cost < b.0) {
-                best = Some((cost, axis, i));
+            let cost = lc as f32 * lb.half_area() + right_count[i + 1] as f32 * right_box[i + 1].half_area();
+            if best.as_ref().is_none_or(|b| cost < b.0) {
+                best = Some((cost, axis, i, lb, right_box[i + 1]));
             }
         }
     }
-    let (cost, axis, bin) = best?;
-    let area = bounds.half_area().max(f32::MIN_POSITIVE);
+    let (cost, axis, bin, left_bounds, right_bounds) = best?;
+    let area = boxes.bounds.half_area().max(f32::MIN_POSITIVE);
     let split_cost = TRAVERSAL_COST + cost / area;
     if n <= MAX_LEAF && split_cost >= n as f32 {
         return None;
     }
-    let scale = nb as f32 / extent[axis];
+    let scale = NB as f32 / extent[axis];
     let lo = cb.min[axis];
-    let mid = partition(prims, |p| bin_index(p.centroid()[axis], lo, scale, nb) <= bin);
-    (mid > 0 && mid < n).then_some(mid)
+    let (mid, left_centroids, right_centroids) =
+        partition(prims, |c| bin_index(c[axis], lo, scale, NB) <= bin);
+    (mid > 0 && mid < n).then_some(Split {
+        mid,
+        left: Boxes { bounds: left_bounds, centroids: left_centroids },
+        right: Boxes { bounds: right_bounds, centroids: right_centroids },
+    })
 }
 
 /// The bin of a centroid coordinate (converted through `i32`, which is
@@ -234,19 +308,20 @@ fn bin_index(c: f32, lo: f32, scale: f32, nb: usize) -> usize {
     (((c - lo) * scale) as i32).clamp(0, nb as i32 - 1) as usize
 }
 
-/// Bin the primitives' centroids along all three axes in one pass, into the
-/// first `nb` bins of each axis.
-fn bin_all(prims: &[BuildPrim], cb: &Aabb, nb: usize) -> [[Bin; BINS]; 3] {
+/// Bin the primitives' centroids along all three axes in one pass, into
+/// `NB` bins per axis.
+fn bin_all<const NB: usize>(prims: &[BuildPrim], cb: &Aabb) -> [[Bin; NB]; 3] {
     let size = cb.size();
-    let scale = Vec3A::select(size.cmpgt(Vec3A::ZERO), Vec3A::splat(nb as f32) / size, Vec3A::ZERO);
+    let scale = Vec3A::select(size.cmpgt(Vec3A::ZERO), Vec3A::splat(NB as f32) / size, Vec3A::ZERO);
     let lo = cb.min;
     let fill = |chunk: &[BuildPrim]| {
-        let mut bins = [[EMPTY_BIN; BINS]; 3];
+        let mut bins = [[EMPTY_BIN; NB]; 3];
         for p in chunk {
             let c = p.centroid();
+            let bounds = p.bounds();
             for (axis, axis_bins) in bins.iter_mut().enumerate() {
-                let b = &mut axis_bins[bin_index(c[axis], lo[axis], scale[axis], nb)];
-                b.bounds = b.bounds.union(p.bounds);
+                let b = &mut axis_bins[bin_index(c[axis], lo[axis], scale[axis], NB)];
+                b.bounds = b.bounds.union(bounds);
                 b.count += 1;
             }
         }
@@ -256,7 +331,7 @@ fn bin_all(prims: &[BuildPrim], cb: &Aabb, nb: usize) -> [[Bin; BINS]; 3] {
         // Large nodes near the root: bin on all cores. The merge is exact
         // (unions and counts), so the tree does not depend on thread count.
         prims.par_chunks(1 << 13).map(fill).reduce(
-            || [[EMPTY_BIN; BINS]; 3],
+            || [[EMPTY_BIN; NB]; 3],
             |mut a, b| {
                 for (aa, ba) in a.iter_mut().zip(&b) {
                     for (x, y) in aa.iter_mut().zip(ba) {
@@ -273,20 +348,35 @@ fn bin_all(prims: &[BuildPrim], cb: &Aabb, nb: usize) -> [[Bin; BINS]; 3] {
 }
 
 /// Bounds of the primitives and of their centroids, in one pass.
-fn bounds_of(prims: &[BuildPrim]) -> (Aabb, Aabb) {
-    prims.iter().fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), p| (b.union(p.bounds), c.grow(p.centroid())))
+fn boxes_of(prims: &[BuildPrim]) -> Boxes {
+    let (bounds, centroids) = prims
+        .par_iter()
+        .fold(|| (Aabb::EMPTY, Aabb::EMPTY), |(b, c), p| (b.union(p.bounds()), c.grow(p.centroid())))
+        .reduce(|| (Aabb::EMPTY, Aabb::EMPTY), |(b0, c0), (b1, c1)| (b0.union(b1), c0.union(c1)));
+    Boxes { bounds, centroids }
 }
 
-/// In-place partition; returns the number of elements satisfying `pred`.
+/// In-place partition by a predicate on the centroid; returns the number of
+/// elements satisfying it and the centroid bounds of both parts.
 /// Branch-free (every element is swapped, the count advances by the
-/// predicate): the predicate is a coin toss for a good split, and
-/// mispredicted branches were most of the build's time.
-fn partition<T>(v: &mut [T], pred: impl Fn(&T) -> bool) -> usize {
+/// predicate, the bounds grow by selection): the predicate is a coin toss
+/// for a good split, and mispredicted branches were most of the build's
+/// time.
+fn partition(v: &mut [BuildPrim], pred: impl Fn(Vec3A) -> bool) -> (usize, Aabb, Aabb) {
+    let (mut left, mut right) = (Aabb::EMPTY, Aabb::EMPTY);
     let mut i = 0;
     for j in 0..v.len() {
-        let go = pred(&v[j]);
-        v.swap(i, j);
+        let c = v[j].centroid();
+        let go = pred(c);
+        let (l, r) = (left.grow(c), right.grow(c));
+        let mask = glam::BVec3A::splat(go);
+        left = Aabb { min: Vec3A::select(mask, l.min, left.min), max: Vec3A::select(mask, l.max, left.max) };
+        right =
+            Aabb { min: Vec3A::select(mask, right.min, r.min), max: Vec3A::select(mask, right.max, r.max) };
+        let (a, b) = (v[i], v[j]);
+        v[i] = b;
+        v[j] = a;
         i += usize::from(go);
     }
-    i
+    (i, left, right)
 }

@@ -69,22 +69,28 @@ fn children(i: usize, bin: &[BvhNode]) -> [usize; 2] {
 
 /// Emit the 4-wide node for binary interior node `i`; returns its index.
 fn build(i: usize, bin: &[BvhNode], out: &mut Vec<Node4>) -> u32 {
-    // Open the largest interior child until there are four.
-    let mut kids: Vec<usize> = children(i, bin).to_vec();
-    while kids.len() < 4 {
-        let open = kids
-            .iter()
-            .enumerate()
-            .filter(|(_, &k)| !bin[k].is_leaf())
-            .max_by(|a, b| bin[*a.1].bounds().half_area().total_cmp(&bin[*b.1].bounds().half_area()))
-            .map(|(j, _)| j);
+    // Open the largest interior child until there are four (on the stack:
+    // one node per 4-wide node, hundreds of thousands of them).
+    let mut kids = [0usize; 4];
+    kids[..2].copy_from_slice(&children(i, bin));
+    let mut len = 2;
+    while len < 4 {
+        let open = (0..len)
+            .filter(|&j| !bin[kids[j]].is_leaf())
+            .max_by(|&a, &b| bin[kids[a]].bounds().half_area().total_cmp(&bin[kids[b]].bounds().half_area()));
         let Some(j) = open else { break };
-        let k = kids.remove(j);
-        kids.extend(children(k, bin));
+        // The opened child's children take the last place and its own,
+        // in the order a list removal and append would give.
+        let [first, second] = children(kids[j], bin);
+        kids.copy_within(j + 1..len, j);
+        kids[len - 1] = first;
+        kids[len] = second;
+        len += 1;
     }
+    let kids = &kids[..len];
     let index = out.len();
     out.push(node_from(&[], bin));
-    let mut node = node_from(&kids, bin);
+    let mut node = node_from(kids, bin);
     for (slot, &k) in kids.iter().enumerate() {
         if !bin[k].is_leaf() {
             node.child[slot] = build(k, bin, out);
