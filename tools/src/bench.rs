@@ -204,7 +204,8 @@ pub struct FlakeProcess {
 /// measure each step.
 pub fn flake_process(path: &Path) -> Result<FlakeProcess> {
     let t0 = Instant::now();
-    let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
+    // As `render` reads it (memory-mapped).
+    let bytes = crate::input::read_source(path)?;
     let scene = nff::parse(&bytes, &ParseOptions::default()).map_err(|e| anyhow::anyhow!("{e}"))?.scene;
     let parse = t0.elapsed().as_secs_f64();
     // As `render` does: the file's bytes are not kept past reading.

@@ -1,7 +1,9 @@
 //! The library behind nffkit's command-line tools. Binaries in `src/bin/` are
 //! thin shells of argument parsing over these functions, so tests and other
 //! tools call exactly the same code.
-#![forbid(unsafe_code)]
+// One exception, with its reasoning: `input::map` (memory-mapping large
+// scene files).
+#![deny(unsafe_code)]
 
 /// Every tool allocates through mimalloc. Reading a big scene makes
 /// hundreds of thousands of small allocations on two threads at once;
