@@ -301,11 +301,29 @@ fn split_with<const NB: usize>(prims: &mut [BuildPrim], boxes: &Boxes) -> Option
     })
 }
 
-/// The bin of a centroid coordinate (converted through `i32`, which is
-/// one instruction; a float to `usize` cast is a longer sequence on x86-64).
+/// 2^23: adding it to a float in [0, 2^23) leaves the float's value,
+/// rounded to an integer, in the low bits of its representation.
+const ROUNDER: f32 = 8_388_608.0;
+
+/// The bin of a centroid coordinate: `(c - lo) * scale` rounded down (ties
+/// at exact bin edges may go either way; binning and partitioning share
+/// this function, so they always agree). Clamped in floating point and
+/// turned into an integer by [`ROUNDER`] rather than by a saturating cast:
+/// a few vector instructions for all three axes at once in [`bin_indices`],
+/// where the casts were a tenth of the build.
 #[inline(always)]
 fn bin_index(c: f32, lo: f32, scale: f32, nb: usize) -> usize {
-    (((c - lo) * scale) as i32).clamp(0, nb as i32 - 1) as usize
+    let t = ((c - lo) * scale - 0.5).max(0.0).min(nb as f32 - 1.0);
+    // (`min` last: a NaN ends in the last bin, never out of range.)
+    ((t + ROUNDER).to_bits().wrapping_sub(ROUNDER.to_bits()) as usize).min(nb - 1)
+}
+
+/// [`bin_index`] on all three axes, the same arithmetic lane by lane.
+#[inline(always)]
+fn bin_indices(c: Vec3A, lo: Vec3A, scale: Vec3A, nb: usize) -> [usize; 3] {
+    let t = ((c - lo) * scale - Vec3A::splat(0.5)).max(Vec3A::ZERO).min(Vec3A::splat(nb as f32 - 1.0));
+    let r = (t + Vec3A::splat(ROUNDER)).to_array();
+    r.map(|x| (x.to_bits().wrapping_sub(ROUNDER.to_bits()) as usize).min(nb - 1))
 }
 
 /// Bin the primitives' centroids along all three axes in one pass, into
@@ -317,10 +335,10 @@ fn bin_all<const NB: usize>(prims: &[BuildPrim], cb: &Aabb) -> [[Bin; NB]; 3] {
     let fill = |chunk: &[BuildPrim]| {
         let mut bins = [[EMPTY_BIN; NB]; 3];
         for p in chunk {
-            let c = p.centroid();
             let bounds = p.bounds();
-            for (axis, axis_bins) in bins.iter_mut().enumerate() {
-                let b = &mut axis_bins[bin_index(c[axis], lo[axis], scale[axis], NB)];
+            let index = bin_indices(p.centroid(), lo, scale, NB);
+            for (axis_bins, i) in bins.iter_mut().zip(index) {
+                let b = &mut axis_bins[i];
                 b.bounds = b.bounds.union(bounds);
                 b.count += 1;
             }
@@ -379,4 +397,36 @@ fn partition(v: &mut [BuildPrim], pred: impl Fn(Vec3A) -> bool) -> (usize, Aabb,
         i += usize::from(go);
     }
     (i, left, right)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Binning (all axes at once) and partitioning (one axis) must put
+    /// every centroid in the same bin, and no value may leave the bins.
+    #[test]
+    fn bin_indices_agree_with_bin_index_and_stay_in_range() {
+        let specials =
+            [0.0, -0.0, 1e-30, 0.49999997, 0.5, 1.0, 3.5, 7.999, 8.0, 1e30, f32::INFINITY, f32::NAN];
+        let mut values: Vec<f32> = specials.iter().flat_map(|&v| [v, -v]).collect();
+        values.extend((0..2000).map(|i| (i as f32 * 0.013_7).sin() * 9.0));
+        for nb in [4, 8, 16] {
+            let (lo, scale) = (Vec3A::new(-1.0, 0.0, 2.0), Vec3A::new(0.5, nb as f32 / 8.0, 3.0));
+            for w in values.windows(3) {
+                let c = Vec3A::new(w[0], w[1], w[2]);
+                let all = bin_indices(c, lo, scale, nb);
+                for axis in 0..3 {
+                    let one = bin_index(c[axis], lo[axis], scale[axis], nb);
+                    assert_eq!(all[axis], one, "{c:?} axis {axis}, {nb} bins");
+                    assert!(one < nb);
+                }
+            }
+            // Inside the range, the bin is the floor of the scaled value.
+            for k in 0..nb {
+                assert_eq!(bin_index(k as f32 + 0.25, 0.0, 1.0, nb), k);
+                assert_eq!(bin_index(k as f32 + 0.75, 0.0, 1.0, nb), k);
+            }
+        }
+    }
 }
