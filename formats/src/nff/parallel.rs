@@ -91,7 +91,7 @@ fn next_entity_line(src: &[u8], from: usize) -> Option<usize> {
         let nl = i + src[i..].iter().position(|&b| b == b'\n')?;
         let line = &src[nl + 1..];
         let word_end = line.iter().position(|&b| b == b' ' || b == b'\t').unwrap_or(0);
-        if word_end > 0 && ENTITY_KEYWORDS.contains(&&line[..word_end]) {
+        if word_end > 0 && ENTITY_KEYWORDS.iter().any(|k| k.as_bytes() == &line[..word_end]) {
             return Some(nl + 1);
         }
         i = nl + 1;

@@ -154,13 +154,18 @@ const MAX_VERTICES: u64 = 1 << 24;
 /// Largest image side accepted in a `resolution` line.
 const MAX_RESOLUTION: u64 = 1 << 16;
 
-pub(super) const ENTITY_KEYWORDS: [&[u8]; 8] = [b"v", b"b", b"l", b"f", b"c", b"s", b"p", b"pp"];
+pub(super) const ENTITY_KEYWORDS: [&str; 8] = ["v", "b", "l", "f", "c", "s", "p", "pp"];
 /// The 2017 course's extensions (see the module doc).
-const EXTENSION_KEYWORDS: [&[u8]; 2] = [b"pl", b"aabb"];
+const EXTENSION_KEYWORDS: [&str; 2] = ["pl", "aabb"];
 const VIEW_KEYWORDS: [&[u8]; 6] = [b"from", b"at", b"up", b"angle", b"hither", b"resolution"];
 
+/// The entity keyword (NFF's or an extension's) that `t` is, if any.
+fn entity_keyword(t: &[u8]) -> Option<&'static str> {
+    ENTITY_KEYWORDS.iter().chain(&EXTENSION_KEYWORDS).find(|k| k.as_bytes() == t).copied()
+}
+
 fn is_entity_keyword(t: &[u8]) -> bool {
-    ENTITY_KEYWORDS.contains(&t) || EXTENSION_KEYWORDS.contains(&t)
+    entity_keyword(t).is_some()
 }
 
 /// Where error recovery stops: an entity keyword, or a word (not a number,
@@ -424,18 +429,8 @@ impl<'a> Parser<'a> {
     }
 
     fn entity(&mut self, t: Token<'a>) -> Res<()> {
-        let kw = match t.text {
-            b"v" => "v",
-            b"b" => "b",
-            b"l" => "l",
-            b"f" => "f",
-            b"s" => "s",
-            b"c" => "c",
-            b"p" => "p",
-            b"pp" => "pp",
-            b"pl" => "pl",
-            b"aabb" => "aabb",
-            _ => return self.unknown(t),
+        let Some(kw) = entity_keyword(t.text) else {
+            return self.unknown(t);
         };
         let e = Entity { keyword: kw, line: t.line };
         match kw {
