@@ -1,31 +1,19 @@
-//! The binary build of the BVH: binned surface-area heuristic (4 to 16 bins by node size,
-//! all three axes binned in one pass, in parallel near the root), flattened
-//! depth-first into 32-byte [`BvhNode`]s with `u32` links. Large subtrees
-//! build their halves on both cores; the tree does not depend on it.
+//! The binned surface-area heuristic that shapes the BVH: 4 to 16 bins by
+//! node size, all three axes binned in one pass (in parallel near the
+//! root). It decides the binary tree one node at a time ([`Binary`]) and
+//! stores none of it: [`super::wide`] opens binary nodes straight into its
+//! 4-wide nodes, so no binary node array is written, copied and collapsed
+//! (on the 600,000-sphere sphereflake those were 40% of the build).
 //!
-//! Layout: the first child of an interior node is the next node in the
-//! array; `link` holds the second. A leaf's `link` is the start of its
-//! primitives in the primitive order this build returns, and `count` their
-//! number (interior nodes have count 0).
+//! A node's primitives are a range of the [`BuildPrim`] array; splitting
+//! it partitions that range in place, so the leaves end up as ranges too,
+//! and the array's order is the primitive order leaves index.
 
 use crate::aabb::Aabb;
 use crate::geometry::Geometry;
 use glam::Vec3A;
 use rayon::prelude::*;
 
-/// One node, 32 bytes: bounds, link, primitive count.
-#[derive(Debug, Clone, Copy)]
-#[repr(C)]
-pub struct BvhNode {
-    min: [f32; 3],
-    /// Second child (interior) or first primitive in `Bvh::prims` (leaf).
-    pub(crate) link: u32,
-    max: [f32; 3],
-    /// Primitives in a leaf; 0 for interior nodes.
-    pub(crate) count: u32,
-}
-
-const _: () = assert!(std::mem::size_of::<BvhNode>() == 32);
 const _: () = assert!(std::mem::size_of::<BuildPrim>() == 32);
 
 /// Deepest tree the traversal stack can hold; the builder makes leaves there.
@@ -49,27 +37,13 @@ const MAX_LEAF: usize = 4;
 /// Cost of a traversal step relative to a primitive test.
 const TRAVERSAL_COST: f32 = 1.0;
 
-impl BvhNode {
-    /// The node's box.
-    #[inline(always)]
-    pub(crate) fn bounds(&self) -> Aabb {
-        Aabb { min: Vec3A::from_array(self.min), max: Vec3A::from_array(self.max) }
-    }
-
-    /// Whether the node is a leaf.
-    #[inline(always)]
-    pub fn is_leaf(&self) -> bool {
-        self.count > 0
-    }
-}
-
 /// A primitive's box and its id: 32 bytes, aligned so that moving one is
 /// two aligned 16-byte copies (the partition swaps one per primitive per
 /// level; at 28 bytes the swap went through overlapping stack copies that
 /// defeated store forwarding: 18% of the split function's samples).
 #[derive(Clone, Copy)]
 #[repr(C, align(16))]
-struct BuildPrim {
+pub(super) struct BuildPrim {
     min: [f32; 3],
     id: u32,
     max: [f32; 3],
@@ -94,6 +68,16 @@ impl BuildPrim {
     }
 }
 
+/// Every bounded primitive of `geom`, in id order.
+pub(super) fn build_prims(geom: &Geometry) -> Vec<BuildPrim> {
+    (0..geom.bounded_len() as u32).into_par_iter().map(|id| BuildPrim::new(geom.bounds(id), id)).collect()
+}
+
+/// The primitive ids in the array's (finally: leaf) order.
+pub(super) fn ids(prims: &[BuildPrim]) -> Vec<u32> {
+    prims.iter().map(|p| p.id).collect()
+}
+
 /// A range's box and the box of its primitives' centroids (doubled, as
 /// [`BuildPrim::centroid`] gives them).
 #[derive(Clone, Copy)]
@@ -110,122 +94,69 @@ struct Bin {
 
 const EMPTY_BIN: Bin = Bin { bounds: Aabb::EMPTY, count: 0 };
 
-/// A range of build primitives waiting to become a subtree.
-struct Task {
-    start: usize,
-    end: usize,
+/// A node of the binary SAH tree: its primitives `start..end` (positions in
+/// the slice it was made from), its depth and boxes, and its split, found
+/// (and the range partitioned) when the node was made: `None` for a leaf.
+#[derive(Clone, Copy)]
+pub(super) struct Binary {
+    /// First primitive.
+    pub start: usize,
+    /// One past the last primitive.
+    pub end: usize,
     depth: usize,
-    /// Interior node whose `link` must point at this subtree (right child).
-    parent: Option<usize>,
     boxes: Boxes,
+    split: Option<Split>,
 }
 
-/// The binary tree over every primitive of `geom` and the primitive ids in
-/// leaf order (the order `BvhNode::link` of a leaf indexes).
-pub fn build_binary(geom: &Geometry) -> (Vec<BvhNode>, Vec<u32>) {
-    let mut prims: Vec<BuildPrim> = (0..geom.bounded_len() as u32)
-        .into_par_iter()
-        .map(|id| BuildPrim::new(geom.bounds(id), id))
-        .collect();
-    let nodes = if prims.is_empty() {
-        Vec::new()
-    } else {
-        let boxes = boxes_of(&prims);
-        concat(build_subtree(&mut prims, 0, 0, boxes))
-    };
-    (nodes, prims.iter().map(|p| p.id).collect())
-}
-
-/// Subtrees larger than this are split and their halves built in parallel.
-const PARALLEL_BUILD: usize = 1 << 16;
-
-/// Part of the node array, built on one thread: its interior links count
-/// from its own first node.
-type Part = Vec<BvhNode>;
-
-/// Build the subtree over `prims` (which start at `offset` in the whole
-/// array, and whose boxes are `boxes`) at `depth`, as parts that follow
-/// each other in the node array. Leaf links are absolute. Large subtrees
-/// split once here and build their halves on both cores; the tree is the
-/// same as a sequential build.
-fn build_subtree(prims: &mut [BuildPrim], offset: usize, depth: usize, boxes: Boxes) -> Vec<Part> {
-    if prims.len() <= PARALLEL_BUILD || depth + 1 >= MAX_DEPTH {
-        let mut nodes = Vec::with_capacity(prims.len());
-        build_nodes(prims, offset, depth, boxes, &mut nodes);
-        return vec![nodes];
+impl Binary {
+    /// The root over all of `prims` (which it partitions).
+    pub fn root(prims: &mut [BuildPrim]) -> Binary {
+        Binary::new(prims, 0, prims.len(), 0, boxes_of(prims))
     }
-    let b = boxes.bounds;
-    let node = |count| BvhNode { min: b.min.into(), link: offset as u32, max: b.max.into(), count };
-    let Some(split) = sah_split(prims, &boxes) else {
-        return vec![vec![node(prims.len() as u32)]];
-    };
-    let (lp, rp) = prims.split_at_mut(split.mid);
-    let (left, right) = rayon::join(
-        || build_subtree(lp, offset, depth + 1, split.left),
-        || build_subtree(rp, offset + split.mid, depth + 1, split.right),
-    );
-    let left_len: usize = left.iter().map(Vec::len).sum();
-    let mut parts = Vec::with_capacity(1 + left.len() + right.len());
-    parts.push(vec![BvhNode { link: (1 + left_len) as u32, ..node(0) }]);
-    parts.extend(left);
-    parts.extend(right);
-    parts
-}
 
-/// The parts in one array, their interior links made absolute: each node
-/// is copied once, however many levels were built in parallel.
-fn concat(parts: Vec<Part>) -> Vec<BvhNode> {
-    let mut nodes = Vec::with_capacity(parts.iter().map(Vec::len).sum());
-    for part in parts {
-        let base = nodes.len() as u32;
-        nodes.extend(part.into_iter().map(|mut n| {
-            if !n.is_leaf() {
-                n.link += base;
-            }
-            n
-        }));
+    fn new(prims: &mut [BuildPrim], start: usize, end: usize, depth: usize, boxes: Boxes) -> Binary {
+        let split = if depth + 1 >= MAX_DEPTH { None } else { sah_split(&mut prims[start..end], &boxes) };
+        Binary { start, end, depth, boxes, split }
     }
-    nodes
-}
 
-/// Iterative depth-first build: the left child is always built right after
-/// its parent, so it sits at `parent + 1`. Interior links are indices into
-/// `nodes`; leaf links are `offset +` positions in `prims`.
-fn build_nodes(prims: &mut [BuildPrim], offset: usize, depth: usize, boxes: Boxes, nodes: &mut Vec<BvhNode>) {
-    let mut stack = vec![Task { start: 0, end: prims.len(), depth, parent: None, boxes }];
-    while let Some(task) = stack.pop() {
-        let index = nodes.len();
-        if let Some(p) = task.parent {
-            nodes[p].link = index as u32;
-        }
-        let range = &mut prims[task.start..task.end];
-        let b = task.boxes.bounds;
-        let mut node =
-            BvhNode { min: b.min.into(), link: (offset + task.start) as u32, max: b.max.into(), count: 0 };
-        let split = if task.depth + 1 >= MAX_DEPTH { None } else { sah_split(range, &task.boxes) };
-        match split {
-            None => {
-                node.count = range.len() as u32;
-                nodes.push(node);
-            }
-            Some(split) => {
-                nodes.push(node);
-                let mid = task.start + split.mid;
-                let depth = task.depth + 1;
-                stack.push(Task {
-                    start: mid,
-                    end: task.end,
-                    depth,
-                    parent: Some(index),
-                    boxes: split.right,
-                });
-                stack.push(Task { start: task.start, end: mid, depth, parent: None, boxes: split.left });
-            }
-        }
+    /// Whether the node is a leaf (its primitives are tested one by one).
+    #[inline]
+    pub fn is_leaf(&self) -> bool {
+        self.split.is_none()
+    }
+
+    /// The node's box.
+    #[inline]
+    pub fn bounds(&self) -> Aabb {
+        self.boxes.bounds
+    }
+
+    /// Number of primitives.
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.end - self.start
+    }
+
+    /// The same node counted from `base` in the slice: for handing its
+    /// range to another thread as a slice of its own.
+    pub fn rebased(self, base: usize) -> Binary {
+        Binary { start: self.start - base, end: self.end - base, ..self }
+    }
+
+    /// The two children of an interior node, each split in turn (a leaf has
+    /// none: `None`).
+    pub fn children(&self, prims: &mut [BuildPrim]) -> Option<[Binary; 2]> {
+        let split = self.split?;
+        let (mid, depth) = (self.start + split.mid, self.depth + 1);
+        Some([
+            Binary::new(prims, self.start, mid, depth, split.left),
+            Binary::new(prims, mid, self.end, depth, split.right),
+        ])
     }
 }
 
 /// A range split in two: the size of the left part and both parts' boxes.
+#[derive(Clone, Copy)]
 struct Split {
     mid: usize,
     left: Boxes,

@@ -1,6 +1,7 @@
 //! A bounding volume hierarchy, one folder per form (as obvhs lays it out):
-//! `build` makes the binary binned-SAH tree, `wide` turns it into the 4-wide
-//! nodes that traversal uses, and this file holds the traversal. Arrows run
+//! `build` decides the binary binned-SAH tree node by node, `wide` opens
+//! those nodes straight into the 4-wide nodes that traversal uses, and this
+//! file holds the traversal. Arrows run
 //! one way: `mod → wide → build`.
 
 mod build;
@@ -25,8 +26,8 @@ pub struct Stacks {
     packet: Vec<PacketEntry>,
 }
 
-/// The hierarchy: built binary, then collapsed to the 4-wide nodes that
-/// traversal uses (the binary tree is not kept).
+/// The hierarchy: 4-wide nodes made from the binary SAH tree's nodes as
+/// they are decided (the binary tree is never stored).
 #[derive(Debug, Clone, Default)]
 pub struct Bvh {
     /// 4-wide nodes, depth first; node 0 is the root.
@@ -40,8 +41,8 @@ impl Bvh {
     /// Build over every primitive of `geom`.
     pub fn build(geom: &Geometry) -> Bvh {
         let t0 = Instant::now();
-        let (binary, prims) = build::build_binary(geom);
-        Bvh { wide: Node4::collapse(&binary), prims, build_seconds: t0.elapsed().as_secs_f64() }
+        let (wide, prims) = Node4::build(geom);
+        Bvh { wide, prims, build_seconds: t0.elapsed().as_secs_f64() }
     }
 
     /// [`Intersector::intersect_packet_bounded`] with the kernels built for

@@ -1,22 +1,25 @@
-//! The BVH's traversal form: the binary SAH tree collapsed into 4-wide
-//! nodes whose four child boxes are tested at once with SIMD (glam's `Vec4`,
-//! SSE on x86-64). Each node is 128 bytes: the boxes in struct-of-arrays
-//! form, then the children.
+//! The BVH's traversal form: the binary SAH tree's nodes, opened four at a
+//! time as the builder decides them, into 4-wide nodes whose four child
+//! boxes are tested at once with SIMD (glam's `Vec4`, SSE on x86-64). Each
+//! node is 128 bytes: the boxes in struct-of-arrays form, then the
+//! children.
 //!
 //! A child with `count == 0` is an interior node (its index in `nodes`);
 //! otherwise it is a leaf holding `prims[child..child + count]`. Unused slots
 //! have empty boxes (min = +inf, max = −inf), which the slab test never hits
 //! because near and far planes are chosen by the sign of 1/d.
 
-use super::build::BvhNode;
+use super::build::{self, Binary, BuildPrim};
 use crate::aabb::SLAB_WIDEN;
+use crate::geometry::Geometry;
 use crate::math::RayQuery;
 use crate::packet::{Mask, RayPacket, LANES};
 use crate::simd::vector::{group_active, group_bits, F32s};
 use glam::Vec4;
+use rayon::prelude::*;
 
 /// A 4-wide node.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 #[repr(C, align(64))]
 pub struct Node4 {
     min: [Vec4; 3],
@@ -42,81 +45,174 @@ pub struct Entry {
 /// pushed per level); the per-thread stack is allocated once at this size.
 pub const STACK: usize = 256;
 
+/// Binary nodes larger than this have their subtrees built in parallel.
+const PARALLEL_BUILD: usize = 1 << 16;
+
+/// Part of the node array, built on one thread: its interior links count
+/// from its own first node.
+type Part = Vec<Node4>;
+
 impl Node4 {
-    /// Collapse a binary tree (depth-first, first child at `i + 1`) into
-    /// 4-wide nodes, depth first; node 0 is the root.
-    pub fn collapse(bin: &[BvhNode]) -> Vec<Node4> {
-        collapse(bin)
+    /// No children: every box empty.
+    const EMPTY: Node4 = Node4 {
+        min: [Vec4::splat(f32::INFINITY); 3],
+        max: [Vec4::splat(f32::NEG_INFINITY); 3],
+        child: [0; 4],
+        count: [0; 4],
+    };
+
+    /// The 4-wide BVH over every bounded primitive of `geom`: the nodes,
+    /// depth first (node 0 is the root), and the primitive ids in the order
+    /// leaves index. Large subtrees are built on both cores; the tree does
+    /// not depend on it.
+    pub fn build(geom: &Geometry) -> (Vec<Node4>, Vec<u32>) {
+        Node4::build_with(geom, PARALLEL_BUILD)
+    }
+
+    /// [`Node4::build`], building subtrees over more than `parallel`
+    /// primitives in parallel.
+    fn build_with(geom: &Geometry, parallel: usize) -> (Vec<Node4>, Vec<u32>) {
+        let mut prims = build::build_prims(geom);
+        if prims.is_empty() {
+            return (Vec::new(), Vec::new());
+        }
+        let root = Binary::root(&mut prims);
+        let parts = if root.is_leaf() {
+            let mut node = Node4::EMPTY;
+            node.set(0, &root, 0, root.len() as u32);
+            vec![vec![node]]
+        } else {
+            parts(&mut prims, 0, root, parallel)
+        };
+        let ids = build::ids(&prims);
+        // Freed before the nodes are gathered, so that the allocator can
+        // hand the gathered array memory that is already mapped.
+        drop(prims);
+        (concat(parts), ids)
+    }
+
+    /// Slot `slot` holds `b`'s box, and `child` and `count` as [`Entry`]
+    /// reads them.
+    fn set(&mut self, slot: usize, b: &Binary, child: u32, count: u32) {
+        let bounds = b.bounds();
+        for a in 0..3 {
+            self.min[a][slot] = bounds.min[a];
+            self.max[a][slot] = bounds.max[a];
+        }
+        self.child[slot] = child;
+        self.count[slot] = count;
     }
 }
 
-fn collapse(bin: &[BvhNode]) -> Vec<Node4> {
-    let mut out = Vec::with_capacity(bin.len() / 2 + 1);
-    if bin.is_empty() {
-        return out;
-    }
-    if bin[0].is_leaf() {
-        out.push(node_from(&[0], bin));
-        return out;
-    }
-    build(0, bin, &mut out);
-    out
-}
-
-fn children(i: usize, bin: &[BvhNode]) -> [usize; 2] {
-    [i + 1, bin[i].link as usize]
-}
-
-/// Emit the 4-wide node for binary interior node `i`; returns its index.
-fn build(i: usize, bin: &[BvhNode], out: &mut Vec<Node4>) -> u32 {
-    // Open the largest interior child until there are four (on the stack:
-    // one node per 4-wide node, hundreds of thousands of them).
-    let mut kids = [0usize; 4];
-    kids[..2].copy_from_slice(&children(i, bin));
+/// The (up to) four binary nodes below interior node `node` that become one
+/// 4-wide node: its two children, then, while there are fewer than four,
+/// the interior one with the largest surface replaced by its children (the
+/// last of equals; the opened node's children go last). Opening takes the
+/// place of collapsing a stored binary tree, and gives the same nodes.
+fn open(prims: &mut [BuildPrim], node: &Binary) -> ([Binary; 4], usize) {
+    let mut kids = [*node; 4];
+    let Some(two) = node.children(prims) else { return (kids, 0) };
+    kids[..2].copy_from_slice(&two);
     let mut len = 2;
     while len < 4 {
         let open = (0..len)
-            .filter(|&j| !bin[kids[j]].is_leaf())
-            .max_by(|&a, &b| bin[kids[a]].bounds().half_area().total_cmp(&bin[kids[b]].bounds().half_area()));
+            .filter(|&j| !kids[j].is_leaf())
+            .max_by(|&a, &b| kids[a].bounds().half_area().total_cmp(&kids[b].bounds().half_area()));
         let Some(j) = open else { break };
-        // The opened child's children take the last place and its own,
-        // in the order a list removal and append would give.
-        let [first, second] = children(kids[j], bin);
+        let Some([first, second]) = kids[j].children(prims) else { break };
         kids.copy_within(j + 1..len, j);
         kids[len - 1] = first;
         kids[len] = second;
         len += 1;
     }
-    let kids = &kids[..len];
+    (kids, len)
+}
+
+/// Append the 4-wide subtree of interior node `node` to `out` (links count
+/// from `out`'s start; leaf links are `offset` plus positions in `prims`)
+/// and return its index.
+fn emit(prims: &mut [BuildPrim], offset: usize, node: &Binary, out: &mut Part) -> u32 {
+    let (kids, len) = open(prims, node);
     let index = out.len();
-    out.push(node_from(&[], bin));
-    let mut node = node_from(kids, bin);
-    for (slot, &k) in kids.iter().enumerate() {
-        if !bin[k].is_leaf() {
-            node.child[slot] = build(k, bin, out);
+    out.push(Node4::EMPTY);
+    let mut wide = Node4::EMPTY;
+    for (slot, k) in kids[..len].iter().enumerate() {
+        if k.is_leaf() {
+            wide.set(slot, k, (offset + k.start) as u32, k.len() as u32);
+        } else {
+            let child = emit(prims, offset, k, out);
+            wide.set(slot, k, child, 0);
         }
     }
-    out[index] = node;
+    out[index] = wide;
     index as u32
 }
 
-fn node_from(kids: &[usize], bin: &[BvhNode]) -> Node4 {
-    let mut min = [[f32::INFINITY; 4]; 3];
-    let mut max = [[f32::NEG_INFINITY; 4]; 3];
-    let mut child = [0u32; 4];
-    let mut count = [0u32; 4];
-    for (slot, &k) in kids.iter().enumerate() {
-        let b = bin[k].bounds();
-        for a in 0..3 {
-            min[a][slot] = b.min[a];
-            max[a][slot] = b.max[a];
-        }
-        if bin[k].is_leaf() {
-            child[slot] = bin[k].link;
-            count[slot] = bin[k].count;
+/// The 4-wide subtree of interior node `node` over `prims` (which start at
+/// `offset` in the whole array), as parts that follow each other in the
+/// node array. A large node's interior children are built in parallel,
+/// each on its own slice of `prims`; the parts are laid out as [`emit`]
+/// would lay them, so the tree does not depend on `parallel`.
+fn parts(prims: &mut [BuildPrim], offset: usize, node: Binary, parallel: usize) -> Vec<Part> {
+    if node.len() <= parallel {
+        let mut out = Vec::with_capacity(node.len() / 2 + 1);
+        emit(prims, offset, &node, &mut out);
+        return vec![out];
+    }
+    let (kids, len) = open(prims, &node);
+    let kids = &kids[..len];
+    // The children tile the node's range: cut it into their slices in
+    // range order, then build the interior ones in parallel.
+    let mut by_start: Vec<usize> = (0..len).collect();
+    by_start.sort_by_key(|&s| kids[s].start);
+    let mut jobs = Vec::with_capacity(len);
+    let mut rest = &mut prims[node.start..node.end];
+    for &slot in &by_start {
+        let (mine, tail) = std::mem::take(&mut rest).split_at_mut(kids[slot].len());
+        rest = tail;
+        if !kids[slot].is_leaf() {
+            let k = kids[slot];
+            jobs.push((slot, mine, offset + k.start, k.rebased(k.start)));
         }
     }
-    Node4 { min: min.map(Vec4::from_array), max: max.map(Vec4::from_array), child, count }
+    let mut built: Vec<(usize, Vec<Part>)> =
+        jobs.into_par_iter().map(|(slot, mine, at, k)| (slot, parts(mine, at, k, parallel))).collect();
+    built.sort_by_key(|&(slot, _)| slot);
+    let mut wide = Node4::EMPTY;
+    let mut next = 1;
+    let mut built = built.into_iter().peekable();
+    let mut out = vec![Vec::new()];
+    for (slot, k) in kids.iter().enumerate() {
+        if k.is_leaf() {
+            wide.set(slot, k, (offset + k.start) as u32, k.len() as u32);
+            continue;
+        }
+        let (_, sub) = built.next().filter(|(s, _)| *s == slot).expect("every interior child was built");
+        wide.set(slot, k, next, 0);
+        next += sub.iter().map(Vec::len).sum::<usize>() as u32;
+        out.extend(sub);
+    }
+    out[0].push(wide);
+    out
+}
+
+/// The parts in one array, their interior links made absolute: each node
+/// is copied once, however many levels were built in parallel. (A link of
+/// 0 is an unused slot: a part's first node is no one's child in it.)
+fn concat(parts: Vec<Part>) -> Vec<Node4> {
+    let mut nodes = Vec::with_capacity(parts.iter().map(Vec::len).sum());
+    for part in parts {
+        let base = nodes.len() as u32;
+        nodes.extend(part.into_iter().map(|mut n| {
+            for slot in 0..4 {
+                if n.count[slot] == 0 && n.child[slot] != 0 {
+                    n.child[slot] += base;
+                }
+            }
+            n
+        }));
+    }
+    nodes
 }
 
 impl Node4 {
@@ -219,6 +315,68 @@ impl Ray4 {
             inv: [Vec4::splat(inv.x), Vec4::splat(inv.y), Vec4::splat(inv.z)],
             neg: q.neg,
             t_min: Vec4::splat(q.t_min),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Cull, PrimInfo, Sphere};
+    use glam::Vec3A;
+
+    /// Spheres of many sizes in clusters, by a fixed xorshift.
+    fn clustered_spheres(n: usize) -> Geometry {
+        let mut s = 0x2545_f491_4f6c_dd1du64;
+        let mut rnd = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut g = Geometry::default();
+        for i in 0..n {
+            let cluster = Vec3A::splat((i % 7) as f32 * 3.0);
+            let center = cluster + Vec3A::new(rnd(), rnd(), rnd()) * 4.0;
+            g.spheres.push(Sphere { center, radius: 0.01 + rnd() * rnd() * 0.6 });
+            g.info.push(PrimInfo { material: 0, cull: Cull::None, patch: None });
+        }
+        g
+    }
+
+    /// Building subtrees in parallel (down to tiny ones here) lays out the
+    /// very nodes the sequential build does: the links between parts are
+    /// right, and the tree does not depend on the thread count.
+    #[test]
+    fn parallel_parts_give_the_sequential_tree() {
+        for n in [1, 2, 5, 40, 3000] {
+            let g = clustered_spheres(n);
+            let (nodes, ids) = Node4::build_with(&g, usize::MAX);
+            for parallel in [4, 16, 100] {
+                assert!(
+                    Node4::build_with(&g, parallel) == (nodes.clone(), ids.clone()),
+                    "{n} prims, {parallel}"
+                );
+            }
+            // Every primitive is in exactly one leaf, reached from the root.
+            let mut seen = vec![0u32; n];
+            let mut stack = vec![0usize];
+            while let Some(i) = stack.pop() {
+                let node = &nodes[i];
+                for slot in 0..4 {
+                    if node.min[0][slot] > node.max[0][slot] {
+                        continue;
+                    }
+                    let (child, count) = (node.child[slot] as usize, node.count[slot] as usize);
+                    if count == 0 {
+                        assert!(child > i, "children follow their parent");
+                        stack.push(child);
+                    } else {
+                        ids[child..child + count].iter().for_each(|&id| seen[id as usize] += 1);
+                    }
+                }
+            }
+            assert!(seen.iter().all(|&k| k == 1), "{n} prims");
         }
     }
 }
