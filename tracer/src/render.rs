@@ -362,6 +362,13 @@ fn run_tiles<I: Intersector>(
     let done = AtomicUsize::new(0);
     let results: Vec<TileResult> = (0..tiles_x * tiles_y)
         .into_par_iter()
+        // One tile per job, so an idle thread can always take the next:
+        // rayon otherwise cuts the range into a few long runs, and a run of
+        // costly tiles left one thread working alone. Called from inside a
+        // pool (as `render` calls it) that cost mount_s7 at 16 spp a fifth
+        // of its time (1.92 s against 1.52 s, side by side). The state is
+        // then made per tile, which costs nothing measurable.
+        .with_max_len(1)
         .map_init(
             || ThreadState {
                 scratch: accel.scratch(&scene.geometry),
