@@ -280,6 +280,27 @@ pub fn capture(program: &Path, args: &[&str]) -> Result<String> {
     Ok(String::from_utf8_lossy(&o.stdout).into_owned())
 }
 
+/// Whole-process wall times of `program args` over `runs` runs (output
+/// discarded), seconds: the best and the median. Fails if a run fails.
+pub fn process_times(program: &Path, args: &[&str], runs: u32) -> Result<(f64, f64)> {
+    let mut times = Vec::with_capacity(runs as usize);
+    for _ in 0..runs.max(1) {
+        let t = Instant::now();
+        let status = std::process::Command::new(program)
+            .args(args)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .status()
+            .with_context(|| format!("running {}", program.display()))?;
+        times.push(t.elapsed().as_secs_f64());
+        if !status.success() {
+            bail!("{} {} failed", program.display(), args.join(" "));
+        }
+    }
+    times.sort_by(f64::total_cmp);
+    Ok((times[0], times[times.len() / 2]))
+}
+
 /// The first number after `key` in `text` (`"speedup (povray / ours): 3.10x"`).
 pub fn number_after(text: &str, key: &str) -> Option<f64> {
     let rest = &text[text.find(key)? + key.len()..];

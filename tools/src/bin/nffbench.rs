@@ -19,11 +19,12 @@ use std::time::Instant;
 ///
 /// Measures, on balls_s4 and mount_s7 (the project's scenes/spd): eye and
 /// shadow rays per second on one thread, and whole Whitted renders (depth 6)
-/// at 1 and 16 spp on every thread; then the sphereflake at levels 2 and 6,
-/// each read, built and rendered in a fresh process, with its peak memory.
-/// With --shared DIR (the project's ../shared), POV-Ray (bench/vs-povray)
-/// and Intel Embree (bench/embree-rays: rtcIntersect1 and 8/16-wide
-/// packets) are run on the same scenes and shown beside these figures.
+/// at 1 and 16 spp on every thread; `render --check` of mount_s7 as a whole
+/// process; then the sphereflake at levels 2 and 6, each read, built and
+/// rendered in a fresh process, with its peak memory. With --shared DIR
+/// (the project's ../shared), POV-Ray (bench/vs-povray) and Intel Embree
+/// (bench/embree-rays: rtcIntersect1 and 8/16-wide packets) are run on the
+/// same scenes and shown beside these figures.
 #[derive(Parser, Debug)]
 #[command(name = "nffbench", version)]
 struct Args {
@@ -207,6 +208,7 @@ fn report(a: &Args) -> Result<String> {
             });
         }
     }
+    check_section(&mut t, &spd, 10 * a.runs)?;
     let dir = tempfile::tempdir()?;
     let (small, small_whole) = flake(2, dir.path(), a.runs)?;
     let (big, big_whole) = flake(a.flake_level, dir.path(), a.runs)?;
@@ -235,6 +237,29 @@ fn report(a: &Args) -> Result<String> {
         big.render / small.render
     );
     Ok(t)
+}
+
+/// `render --check` of mount_s7 as a whole process, beside `render
+/// --version` (starting the process and nothing else), each run `runs`
+/// times: short processes need many runs for the best to be the
+/// machine's, not its noise.
+fn check_section(t: &mut String, spd: &Path, runs: u32) -> Result<()> {
+    eprintln!("render --check mount_s7: {runs} fresh processes");
+    let render = std::env::current_exe()?.with_file_name("render");
+    let file = spd.join("mount_s7.nff");
+    let file = file.to_str().context("the scene's path is not UTF-8")?;
+    let mb = std::fs::metadata(file).with_context(|| format!("reading {file}"))?.len() as f64 / 1e6;
+    let check = bench::process_times(&render, &["--check", file], runs)?;
+    let floor = bench::process_times(&render, &["--version"], runs)?;
+    let _ = writeln!(t, "\n## Checking a file, whole process ({runs} runs)\n");
+    let _ = writeln!(t, "| command | best ms | median ms |");
+    let _ = writeln!(t, "|---|---:|---:|");
+    for (label, (best, median)) in
+        [(format!("render --check mount_s7 ({mb:.1} MB)"), check), ("render --version".to_string(), floor)]
+    {
+        let _ = writeln!(t, "| {label} | {:.1} | {:.1} |", best * 1e3, median * 1e3);
+    }
+    Ok(())
 }
 
 fn run(a: &Args) -> Result<()> {

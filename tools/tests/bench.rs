@@ -1,0 +1,30 @@
+//! `nffbench` runs end to end (small: 16x16 images, one run, sphereflake
+//! level 2, no POV-Ray or Embree) and prints every table it promises.
+
+use std::process::Command;
+
+#[test]
+fn benchmark_prints_its_tables() {
+    let out = Command::new(env!("CARGO_BIN_EXE_nffbench"))
+        .args(["--size", "16", "--runs", "1", "--flake-level", "2"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("nffbench runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}\n{}", stdout, String::from_utf8_lossy(&out.stderr));
+    for row in [
+        "| measure | balls_s4 | mount_s7 |",
+        "| eye rays, packets of 4x4",
+        "| Whitted 16 spp, s (Mrays/s per thread) |",
+        "| render --check mount_s7 (2.7 MB) |",
+        "| render --version |",
+        "| 2 | 0.0 |",
+        "Level 2 against level 2: whole process",
+    ] {
+        assert!(stdout.contains(row), "no `{row}` in:\n{stdout}");
+    }
+    // Every row of the check table holds two times in milliseconds.
+    let check = stdout.lines().find(|l| l.starts_with("| render --check")).unwrap_or_default();
+    let times: Vec<f64> = check.split('|').filter_map(|c| c.trim().parse().ok()).collect();
+    assert!(times.len() == 2 && times.iter().all(|&t| t > 0.0 && t < 10_000.0), "{check}");
+}
