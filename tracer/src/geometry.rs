@@ -586,3 +586,32 @@ mod tests {
         assert!(n.y < -0.9 && n.x > 0.1, "{n}");
     }
 }
+
+/// Scenes for the crate's unit tests.
+#[cfg(test)]
+pub(crate) mod testing {
+    use super::{Cull, Geometry, PrimInfo, Sphere};
+    use glam::Vec3A;
+
+    /// A fixed xorshift stream of floats in [0, 1).
+    pub fn uniform(seed: u64) -> impl FnMut() -> f32 {
+        let mut s = seed;
+        move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 40) as f32 / (1u64 << 24) as f32
+        }
+    }
+
+    /// `n` two-sided spheres, sphere `i` at `place(i)` = (centre, radius).
+    pub fn spheres(n: usize, mut place: impl FnMut(usize) -> (Vec3A, f32)) -> Geometry {
+        let mut g = Geometry::default();
+        for i in 0..n {
+            let (center, radius) = place(i);
+            g.spheres.push(Sphere { center, radius });
+            g.info.push(PrimInfo { material: 0, cull: Cull::None, patch: None });
+        }
+        g
+    }
+}

@@ -340,25 +340,13 @@ impl Grid {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Cull, PrimInfo, Sphere};
+    use crate::geometry::testing::{spheres, uniform};
     use crate::math::Ray;
 
     /// 500 spheres scattered in [-5, 5]^3 by a fixed xorshift.
     fn scattered_spheres() -> Geometry {
-        let mut s = 0x9e37_79b9_7f4a_7c15u64;
-        let mut rnd = move || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 40) as f32 / (1u64 << 24) as f32
-        };
-        let mut g = Geometry::default();
-        for _ in 0..500 {
-            let center = Vec3A::new(rnd(), rnd(), rnd()) * 10.0 - 5.0;
-            g.spheres.push(Sphere { center, radius: 0.1 + rnd() * 0.5 });
-            g.info.push(PrimInfo { material: 0, cull: Cull::None, patch: None });
-        }
-        g
+        let mut rnd = uniform(0x9e37_79b9_7f4a_7c15);
+        spheres(500, |_| (Vec3A::new(rnd(), rnd(), rnd()) * 10.0 - 5.0, 0.1 + rnd() * 0.5))
     }
 
     #[test]

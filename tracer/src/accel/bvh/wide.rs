@@ -322,26 +322,16 @@ impl Ray4 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Cull, PrimInfo, Sphere};
+    use crate::geometry::testing::{spheres, uniform};
     use glam::Vec3A;
 
     /// Spheres of many sizes in clusters, by a fixed xorshift.
     fn clustered_spheres(n: usize) -> Geometry {
-        let mut s = 0x2545_f491_4f6c_dd1du64;
-        let mut rnd = move || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 40) as f32 / (1u64 << 24) as f32
-        };
-        let mut g = Geometry::default();
-        for i in 0..n {
+        let mut rnd = uniform(0x2545_f491_4f6c_dd1d);
+        spheres(n, |i| {
             let cluster = Vec3A::splat((i % 7) as f32 * 3.0);
-            let center = cluster + Vec3A::new(rnd(), rnd(), rnd()) * 4.0;
-            g.spheres.push(Sphere { center, radius: 0.01 + rnd() * rnd() * 0.6 });
-            g.info.push(PrimInfo { material: 0, cull: Cull::None, patch: None });
-        }
-        g
+            (cluster + Vec3A::new(rnd(), rnd(), rnd()) * 4.0, 0.01 + rnd() * rnd() * 0.6)
+        })
     }
 
     /// Building subtrees in parallel (down to tiny ones here) lays out the
