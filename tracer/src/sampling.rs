@@ -130,18 +130,24 @@ impl Sampler {
             SamplerKind::Random => Vec2::new(randfloat(index, p), randfloat(index, p ^ 0x9e37_79b9)),
             SamplerKind::Regular => {
                 let s = permute(index, count, p);
-                Vec2::new(((s % n) as f32 + 0.5) / n as f32, ((s / n) as f32 + 0.5) / n as f32)
+                {
+                    let (row, col) = div_rem(s, n);
+                    Vec2::new(over(col as f32 + 0.5, n), over(row as f32 + 0.5, n))
+                }
             }
             SamplerKind::Jittered => {
                 let s = permute(index, count, p);
                 let (jx, jy) = (randfloat(s, p ^ 0x68bc_21eb), randfloat(s, p ^ 0x02e5_be93));
-                Vec2::new(((s % n) as f32 + jx) / n as f32, ((s / n) as f32 + jy) / n as f32)
+                {
+                    let (row, col) = div_rem(s, n);
+                    Vec2::new(over(col as f32 + jx, n), over(row as f32 + jy, n))
+                }
             }
             SamplerKind::NRooks => {
                 let s = permute(index, count, p);
                 let col = permute(s, count, p.wrapping_mul(0xa511_e9b3));
                 let (jx, jy) = (randfloat(s, p ^ 0x68bc_21eb), randfloat(s, p ^ 0x02e5_be93));
-                Vec2::new((col as f32 + jx) / count as f32, (s as f32 + jy) / count as f32)
+                Vec2::new(over(col as f32 + jx, count), over(s as f32 + jy, count))
             }
             SamplerKind::MultiJittered | SamplerKind::CorrelatedMultiJittered => {
                 let correlated = self.kind == SamplerKind::CorrelatedMultiJittered;
@@ -150,7 +156,7 @@ impl Sampler {
             SamplerKind::Hammersley => {
                 let s = permute(index, count, p);
                 let shift = randfloat(0, p ^ 0x5bd1_e995);
-                let x = (s as f32 + 0.5) / count as f32 + shift;
+                let x = over(s as f32 + 0.5, count) + shift;
                 let y = (s.reverse_bits() ^ hash(p ^ 0x1b87_3593)) as f32 * (1.0 / 4_294_967_296.0);
                 Vec2::new(x - x.floor(), y.min(ONE_MINUS_EPSILON))
             }
@@ -177,7 +183,7 @@ fn to_unit(x: u32) -> f32 {
 /// correlated) and its y sub-row a permutation of the columns.
 #[inline]
 fn multi_jittered(s: u32, n: u32, p: u32, correlated: bool) -> Vec2 {
-    let (k, j) = (s % n, s / n);
+    let (j, k) = div_rem(s, n);
     let (px, py) = if correlated {
         (p.wrapping_mul(0xa511_e9b3), p.wrapping_mul(0x63d8_3595))
     } else {
@@ -187,10 +193,9 @@ fn multi_jittered(s: u32, n: u32, p: u32, correlated: bool) -> Vec2 {
     let sy = permute(k, n, py);
     let jx = randfloat(s, p.wrapping_mul(0xa399_d265));
     let jy = randfloat(s, p.wrapping_mul(0x711a_d6a5));
-    let nf = n as f32;
     Vec2::new(
-        ((k as f32 + (sx as f32 + jx) / nf) / nf).min(ONE_MINUS_EPSILON),
-        ((j as f32 + (sy as f32 + jy) / nf) / nf).min(ONE_MINUS_EPSILON),
+        over(k as f32 + over(sx as f32 + jx, n), n).min(ONE_MINUS_EPSILON),
+        over(j as f32 + over(sy as f32 + jy, n), n).min(ONE_MINUS_EPSILON),
     )
 }
 
@@ -281,7 +286,31 @@ pub fn permute(mut i: u32, l: u32, p: u32) -> u32 {
             break;
         }
     }
-    (i.wrapping_add(p)) % l
+    div_rem(i.wrapping_add(p), l).1
+}
+
+/// `(x / n, x % n)`, by shift and mask when `n` is a power of two (the
+/// usual sample counts and grid sides): the two integer divisions per
+/// permutation and per grid cell were most of a sample's cost. `n > 0`.
+#[inline(always)]
+fn div_rem(x: u32, n: u32) -> (u32, u32) {
+    if n.is_power_of_two() {
+        (x >> n.trailing_zeros(), x & (n - 1))
+    } else {
+        (x / n, x % n)
+    }
+}
+
+/// `x / n` in floating point, as a multiplication when `n` is a power of
+/// two: then 1/n is exact, and so is the product (for the normal numbers
+/// drawn here), giving the quotient's very bits.
+#[inline(always)]
+fn over(x: f32, n: u32) -> f32 {
+    if n.is_power_of_two() {
+        x * f32::from_bits((127 - n.trailing_zeros()) << 23)
+    } else {
+        x / n as f32
+    }
 }
 
 /// Kensler's hashed float in [0, 1) for index `i` and pattern `p`.
@@ -359,6 +388,22 @@ pub fn concentric_disk(u: Vec2) -> Vec2 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The shortcuts for powers of two give the bits of the plain
+    /// division, and other counts take the plain division.
+    #[test]
+    fn division_shortcuts_match_division() {
+        let mut x = 0x1234_5678u32;
+        for n in (1..=70).chain([128, 256, 1000, 1024, 4096, 65536]) {
+            for _ in 0..300 {
+                x = hash(x);
+                let i = if x & 1 == 0 { x } else { x % (4 * n) };
+                assert_eq!(div_rem(i, n), (i / n, i % n), "{i} / {n}");
+                let f = (x >> 8) as f32 * (1.0 / 16_777_216.0) * (n as f32 + 1.0);
+                assert_eq!(over(f, n).to_bits(), (f / n as f32).to_bits(), "{f} / {n}");
+            }
+        }
+    }
 
     fn set(kind: SamplerKind, spp: u32, px: u32) -> Vec<Vec2> {
         let (s, _) = Sampler::new(kind, spp, 7);
