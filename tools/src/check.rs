@@ -12,6 +12,9 @@ pub struct CheckReport {
     pub summary: String,
     /// Errors found (0 means the file is valid).
     pub errors: usize,
+    /// The scene read, when the file is valid: handed back so that the
+    /// caller decides when to free it.
+    pub scene: Option<Scene>,
 }
 
 /// Check one file's bytes, `name` being how it is shown in messages.
@@ -29,7 +32,8 @@ pub fn check_source(name: &str, src: &[u8], opts: &ParseOptions) -> CheckReport 
             let warnings = parsed.diagnostics.iter().filter(|d| d.severity == Severity::Warning).count()
                 + unlit.is_some() as usize;
             let notes = parsed.diagnostics.iter().filter(|d| d.severity == Severity::Note).count();
-            CheckReport { diagnostics, summary: summary(name, &parsed.scene, warnings, notes), errors: 0 }
+            let summary = summary(name, &parsed.scene, warnings, notes);
+            CheckReport { diagnostics, summary, errors: 0, scene: Some(parsed.scene) }
         }
         Err(e) => {
             for d in &e.diagnostics {
@@ -42,7 +46,7 @@ pub fn check_source(name: &str, src: &[u8], opts: &ParseOptions) -> CheckReport 
                 plural(errors),
                 plural(warnings)
             );
-            CheckReport { diagnostics, summary, errors }
+            CheckReport { diagnostics, summary, errors, scene: None }
         }
     }
 }

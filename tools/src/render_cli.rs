@@ -34,7 +34,7 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode> {
 
 fn check_files(files: &[PathBuf], opts: &ParseOptions) -> ExitCode {
     let mut failed = 0;
-    for path in files {
+    for (k, path) in files.iter().enumerate() {
         let name = input::display_name(path);
         match input::read_source(path) {
             Ok(src) => {
@@ -42,6 +42,13 @@ fn check_files(files: &[PathBuf], opts: &ParseOptions) -> ExitCode {
                 eprint!("{}", report.diagnostics);
                 println!("{}", report.summary);
                 failed += (report.errors > 0) as usize;
+                if k + 1 == files.len() {
+                    // The process ends next, and the system takes the
+                    // memory back at once: freeing the last scene piece by
+                    // piece (one list per polygon) was 0.5 ms of the 11 ms
+                    // that checking mount_s7 takes.
+                    std::mem::forget(report.scene);
+                }
             }
             Err(e) => {
                 eprintln!("error: {e:#}");
