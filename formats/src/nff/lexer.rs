@@ -6,8 +6,6 @@
 //! like any other unexpected token.
 
 use super::number::number_prefix;
-#[cfg(test)]
-use super::number::parse_number;
 
 /// A token: its bytes and where it starts.
 #[derive(Debug, Clone, Copy)]
@@ -123,7 +121,8 @@ impl<'a> Lexer<'a> {
     /// one pass over its bytes (the reader's hot path: NFF is mostly
     /// numbers). Otherwise `None`, having consumed only the whitespace
     /// before the token, so [`Iterator::next`] returns it as usual. The
-    /// value is the one [`parse_number`] gives for the token.
+    /// value is the one [`parse_number`](super::number::parse_number) gives
+    /// for the token.
     #[inline]
     pub fn number(&mut self) -> Option<(f64, Token<'a>)> {
         if !self.skip_space() {
@@ -159,6 +158,7 @@ impl<'a> Iterator for Lexer<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::nff::number::parse_number;
 
     fn tokens(s: &str) -> Vec<(String, u32, u32)> {
         Lexer::starting_at(s.as_bytes(), 1).map(|t| (t.display(), t.line, t.column())).collect()

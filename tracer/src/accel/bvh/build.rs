@@ -3,7 +3,8 @@
 //! root). It decides the binary tree one node at a time ([`Binary`]) and
 //! stores none of it: [`super::wide`] opens binary nodes straight into its
 //! 4-wide nodes, so no binary node array is written, copied and collapsed
-//! (on the 600,000-sphere sphereflake those were 40% of the build).
+//! (on the 600,000-sphere sphereflake that took the process's peak memory
+//! from 228 MB to 200 MB).
 //!
 //! A node's primitives are a range of the [`BuildPrim`] array; splitting
 //! it partitions that range in place, so the leaves end up as ranges too,

@@ -1,8 +1,7 @@
 //! A bounding volume hierarchy, one folder per form (as obvhs lays it out):
 //! `build` decides the binary binned-SAH tree node by node, `wide` opens
 //! those nodes straight into the 4-wide nodes that traversal uses, and this
-//! file holds the traversal. Arrows run
-//! one way: `mod → wide → build`.
+//! file holds the traversal. Arrows run one way: `mod → wide → build`.
 
 mod build;
 mod packet;

@@ -85,8 +85,8 @@ impl Node4 {
             parts(&mut prims, 0, root, parallel)
         };
         let ids = build::ids(&prims);
-        // Freed before the nodes are gathered, so that the allocator can
-        // hand the gathered array memory that is already mapped.
+        // Freed before the nodes are gathered: the gathered array may then
+        // reuse its pages instead of new ones.
         drop(prims);
         (concat(parts), ids)
     }
@@ -175,19 +175,20 @@ fn parts(prims: &mut [BuildPrim], offset: usize, node: Binary, parallel: usize) 
             jobs.push((slot, mine, offset + k.start, k.rebased(k.start)));
         }
     }
-    let mut built: Vec<(usize, Vec<Part>)> =
+    let mut built: [Vec<Part>; 4] = Default::default();
+    let subtrees: Vec<_> =
         jobs.into_par_iter().map(|(slot, mine, at, k)| (slot, parts(mine, at, k, parallel))).collect();
-    built.sort_by_key(|&(slot, _)| slot);
+    for (slot, sub) in subtrees {
+        built[slot] = sub;
+    }
     let mut wide = Node4::EMPTY;
     let mut next = 1;
-    let mut built = built.into_iter().peekable();
     let mut out = vec![Vec::new()];
-    for (slot, k) in kids.iter().enumerate() {
+    for ((slot, k), sub) in kids.iter().enumerate().zip(built) {
         if k.is_leaf() {
             wide.set(slot, k, (offset + k.start) as u32, k.len() as u32);
             continue;
         }
-        let (_, sub) = built.next().filter(|(s, _)| *s == slot).expect("every interior child was built");
         wide.set(slot, k, next, 0);
         next += sub.iter().map(Vec::len).sum::<usize>() as u32;
         out.extend(sub);
