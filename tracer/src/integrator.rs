@@ -27,6 +27,7 @@ use crate::sampling::{concentric_disk, Sampler};
 use crate::shadow_cache::ShadowCache;
 use crate::shadow_lanes::{shadow_rays, LightLanes, PointLanes};
 use crate::stats::Counters;
+use crate::surface_lanes::surfaces;
 use glam::{Vec2, Vec3A};
 use strum::{Display, IntoStaticStr, VariantArray};
 
@@ -174,20 +175,21 @@ impl<I: Intersector> Whitted<'_, I> {
         let mut points = [None; LANES];
         let mut at = PointLanes::default();
         let mut color = [Vec3A::ZERO; LANES];
+        let hit = (0..rays.len()).filter(|&i| hits.prim[i] != NO_PRIM).fold(0, |m, i| m | 1 << i);
+        let entering = surfaces(crate::simd::isa(), geom, &packet, &hits, hit, &mut at);
         for (i, o) in out.iter_mut().enumerate().take(rays.len()) {
-            let Some(hit) = hits.get(i) else {
+            if hit >> i & 1 == 0 {
                 *o = scene.background;
                 continue;
-            };
+            }
             if depth == 1 {
                 th.counters.eye_hits += 1;
             }
-            let sp = self.shade_point(&packet.query(i), &hit);
-            color[i] = scene.ambient * sp.m.kd * sp.m.color;
-            for a in 0..3 {
-                (at.p[a].0[i], at.ng[a].0[i], at.ns[a].0[i]) = (sp.p[a], sp.ng[a], sp.ns[a]);
-            }
-            points[i] = Some(sp);
+            let m = scene.materials[geom.info[hits.prim[i] as usize].material as usize];
+            let lane = |v: &[Lanes; 3]| Vec3A::new(v[0].0[i], v[1].0[i], v[2].0[i]);
+            let (p, ng, ns, d) = (lane(&at.p), lane(&at.ng), lane(&at.ns), lane(&packet.d));
+            color[i] = scene.ambient * m.kd * m.color;
+            points[i] = Some(ShadePoint { p, ng, ns, d, entering: entering >> i & 1 != 0, m });
         }
         let mut shadow = RayPacket::new(std::iter::empty());
         for k in 0..scene.lights.len() {

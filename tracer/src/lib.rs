@@ -32,6 +32,7 @@ pub mod shadow_cache;
 pub mod shadow_lanes;
 pub mod simd;
 pub mod stats;
+pub mod surface_lanes;
 pub mod triangulate;
 
 pub use glam::Vec3A;

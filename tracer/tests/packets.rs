@@ -197,6 +197,90 @@ fn renders_with_packets_equal_renders_without() {
     }
 }
 
+/// The hits' surface records made by [`surfaces`] for `isa` (lane-wise for
+/// spheres and flat triangles, lane by lane for the rest) against the
+/// single-ray records, bit for bit: point, normals turned to face the ray,
+/// and which side was hit. Returns how many lanes hit a sphere, a triangle
+/// and anything else.
+fn check_surfaces(g: &Geometry, bvh: &Bvh, p: &RayPacket, isa: Isa) -> [usize; 3] {
+    use nffkit_tracer::geometry::Kind;
+    use nffkit_tracer::packet::Lanes;
+    use nffkit_tracer::shadow_lanes::PointLanes;
+    use nffkit_tracer::surface_lanes::surfaces;
+    let (mut scratch, mut c) = (bvh.scratch(g), Counters::default());
+    let mut hits = PacketHits::new(p);
+    bvh.intersect_packet(g, p, &mut hits, &mut scratch, &mut c);
+    let hit = (0..LANES).filter(|&i| hits.prim[i] != NO_PRIM).fold(0, |m, i| m | 1 << i);
+    let bits = |v: Vec3A| v.to_array().map(f32::to_bits);
+    let mut at = PointLanes::default();
+    let entering = surfaces(isa, g, p, &hits, hit, &mut at);
+    assert_eq!(entering & !hit, 0, "{isa}: a lane without a hit enters");
+    let mut kinds = [0; 3];
+    for i in (0..LANES).filter(|i| hit >> i & 1 != 0) {
+        let q = p.query(i);
+        let s = g.surface(&hits.get(i).unwrap(), &q);
+        let enters = s.ng.dot(q.ray.d) < 0.0;
+        let flip = if enters { 1.0 } else { -1.0 };
+        let lane = |v: &[Lanes; 3]| Vec3A::new(v[0].0[i], v[1].0[i], v[2].0[i]);
+        assert_eq!(entering >> i & 1 != 0, enters, "{isa} lane {i} side");
+        assert_eq!(bits(lane(&at.p)), bits(s.p), "{isa} lane {i} point");
+        assert_eq!(bits(lane(&at.ng)), bits(s.ng * flip), "{isa} lane {i} normal");
+        assert_eq!(bits(lane(&at.ns)), bits(s.ns * flip), "{isa} lane {i} shading normal");
+        kinds[match g.locate(hits.prim[i]).0 {
+            Kind::Sphere => 0,
+            Kind::Triangle => 1,
+            _ => 2,
+        }] += 1;
+    }
+    kinds
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    #[test]
+    fn surfaces_made_lane_wise_equal_the_single_ray_records(
+        seed in any::<u64>(),
+        n in 1usize..300,
+        one_sided in any::<bool>(),
+        origin in prop::array::uniform3(-8.0f32..8.0),
+        dir in prop::array::uniform3(-1.0f32..1.0),
+        spread in prop::sample::select(vec![0.0f32, 0.05, 0.5, 4.0]),
+        jitter in prop::collection::vec(prop::array::uniform6(-1.0f32..1.0), LANES),
+        mask in any::<u16>(),
+    ) {
+        let g = random_scene(seed, n, one_sided);
+        let bvh = Bvh::build(&g);
+        let p = rays(&g, &bvh, (origin, dir), spread, &jitter, u32::from(mask) | 1);
+        for isa in Isa::available() {
+            check_surfaces(&g, &bvh, &p, isa);
+        }
+    }
+}
+
+#[test]
+fn surfaces_of_many_hits_of_every_kind_equal_the_single_ray_records() {
+    // Packets aimed into a dense scene, so that every kind is hit often.
+    let g = random_scene(7, 3000, false);
+    let bvh = Bvh::build(&g);
+    let mut kinds = [0; 3];
+    for k in 0..300 {
+        let a = k as f32 * 0.37;
+        let origin = [(a * 1.7).sin() * 3.0, (a * 2.3).cos() * 3.0, (a * 0.7).sin() * 3.0];
+        let dir = [a.sin(), a.cos(), (a * 1.3).cos()];
+        let jitter: Vec<[f32; 6]> =
+            (0..LANES).map(|i| [0.0, 0.0, 0.0, (i % 4) as f32 - 1.5, (i / 4) as f32 - 1.5, 0.5]).collect();
+        let p = rays(&g, &bvh, (origin, dir), 0.5, &jitter, 0xffff);
+        for isa in Isa::available() {
+            let found = check_surfaces(&g, &bvh, &p, isa);
+            if isa == Isa::Portable {
+                (0..3).for_each(|j| kinds[j] += found[j]);
+            }
+        }
+    }
+    assert!(kinds.iter().all(|&n| n > 200), "too few hits of some kind (sphere, triangle, other): {kinds:?}");
+}
+
 /// The scalar setup of a shadow ray (`Whitted::light_ray`): the light
 /// direction, N·L, and the ray's query and length, or where it stops.
 fn scalar_shadow_ray(
