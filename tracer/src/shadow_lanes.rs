@@ -9,6 +9,7 @@
 //! gets, and images do not depend on packets.
 
 use crate::packet::{Lanes, Mask, Permutations, RayPacket, LANES};
+use crate::simd::vec3::{div3, dot, load3, neg3, offset, select3, sub3};
 use crate::simd::vector::{group_active, group_bits, F32s};
 
 /// Hit points of a packet in structure-of-arrays form: position, geometric
@@ -71,58 +72,6 @@ crate::dispatch! {
     ) -> ShadowLanes {
         shadow_rays_body::<V>(at, light, valid, out, dirs)
     }
-}
-
-/// Load a vector of three lanes' arrays.
-#[inline(always)]
-fn load3<V: F32s>(a: &[Lanes; 3], g: usize) -> [V; 3] {
-    [V::load(&a[0].0, g), V::load(&a[1].0, g), V::load(&a[2].0, g)]
-}
-
-#[inline(always)]
-fn dot<V: F32s>(a: [V; 3], b: [V; 3]) -> V {
-    a[0].mul(b[0]).add(a[1].mul(b[1])).add(a[2].mul(b[2]))
-}
-
-#[inline(always)]
-fn sub3<V: F32s>(a: [V; 3], b: [V; 3]) -> [V; 3] {
-    [a[0].sub(b[0]), a[1].sub(b[1]), a[2].sub(b[2])]
-}
-
-/// `offset_ray_origin(p, n)`, lane-wise.
-///
-/// (No closures or `array::map` in these kernels: those are separate
-/// functions compiled without the instruction set, and the vector
-/// intrinsics inside them would not be inlined.)
-#[inline(always)]
-fn offset<V: F32s>(p: [V; 3], n: [V; 3]) -> [V; 3] {
-    [offset1(p[0], n[0]), offset1(p[1], n[1]), offset1(p[2], n[2])]
-}
-
-#[inline(always)]
-fn offset1<V: F32s>(p: V, n: V) -> V {
-    let zero = V::splat(0.0);
-    let of = V::splat(256.0).mul(n).to_i32_bits();
-    let delta = V::select(p.lt(zero), zero.to_i32_bits().sub_i32(of), of);
-    let moved = p.add_i32(delta);
-    let near_zero = p.copysign(zero).lt(V::splat(1.0 / 32.0));
-    V::select(near_zero, p.add(V::splat(1.0 / 65536.0).mul(n)), moved)
-}
-
-#[inline(always)]
-fn div3<V: F32s>(a: [V; 3], s: V) -> [V; 3] {
-    [a[0].div(s), a[1].div(s), a[2].div(s)]
-}
-
-#[inline(always)]
-fn neg3<V: F32s>(a: [V; 3]) -> [V; 3] {
-    [a[0].neg(), a[1].neg(), a[2].neg()]
-}
-
-/// `m ? a : b` for each axis.
-#[inline(always)]
-fn select3<V: F32s>(m: V::M, a: [V; 3], b: [V; 3]) -> [V; 3] {
-    [V::select(m, a[0], b[0]), V::select(m, a[1], b[1]), V::select(m, a[2], b[2])]
 }
 
 #[inline(always)]

@@ -7,16 +7,16 @@
 //! stalls of handing each record back through memory). Here a sphere's or
 //! a flat triangle's record is computed for a whole vector of lanes at
 //! once, operation for operation as [`Geometry::surface`] and
-//! `Whitted::shade_point` compute it (glam's dot products sum x, y then z;
-//! its `normalize` divides by the square root of that dot product; its
-//! cross product subtracts the same two products), so every lane gets the
-//! bits the single-ray path gets and images do not depend on packets.
+//! `Whitted::shade_point` compute it (with [`crate::simd::vec3`]), so every
+//! lane gets the bits the single-ray path gets and images do not depend on
+//! packets.
 //! Cones, planes and patches (interpolated normals) go through
 //! [`Geometry::surface`] lane by lane.
 
 use crate::geometry::{Geometry, Kind};
 use crate::packet::{for_lanes, Lanes, Mask, PacketHits, RayPacket, LANES};
 use crate::shadow_lanes::PointLanes;
+use crate::simd::vec3::{cross, dot, load3, normalize, select3, store3, sub3};
 use crate::simd::vector::{group_active, group_bits, F32s};
 use crate::simd::Isa;
 
@@ -107,51 +107,6 @@ crate::dispatch! {
     ) -> Mask {
         surface_body::<V>(p, hits, g, hit, out)
     }
-}
-
-#[inline(always)]
-fn load3<V: F32s>(a: &[Lanes; 3], g: usize) -> [V; 3] {
-    [V::load(&a[0].0, g), V::load(&a[1].0, g), V::load(&a[2].0, g)]
-}
-
-#[inline(always)]
-fn store3<V: F32s>(v: [V; 3], a: &mut [Lanes; 3], g: usize) {
-    v[0].store(&mut a[0].0, g);
-    v[1].store(&mut a[1].0, g);
-    v[2].store(&mut a[2].0, g);
-}
-
-/// glam's `dot`: x, then y, then z.
-#[inline(always)]
-fn dot<V: F32s>(a: [V; 3], b: [V; 3]) -> V {
-    a[0].mul(b[0]).add(a[1].mul(b[1])).add(a[2].mul(b[2]))
-}
-
-/// glam's `normalize`: divided by the square root of the dot product.
-#[inline(always)]
-fn normalize<V: F32s>(v: [V; 3]) -> [V; 3] {
-    let len = dot(v, v).sqrt();
-    [v[0].div(len), v[1].div(len), v[2].div(len)]
-}
-
-#[inline(always)]
-fn sub3<V: F32s>(a: [V; 3], b: [V; 3]) -> [V; 3] {
-    [a[0].sub(b[0]), a[1].sub(b[1]), a[2].sub(b[2])]
-}
-
-/// glam's `cross`: each axis the difference of the same two products.
-#[inline(always)]
-fn cross<V: F32s>(l: [V; 3], r: [V; 3]) -> [V; 3] {
-    [
-        l[1].mul(r[2]).sub(r[1].mul(l[2])),
-        l[2].mul(r[0]).sub(r[2].mul(l[0])),
-        l[0].mul(r[1]).sub(r[0].mul(l[1])),
-    ]
-}
-
-#[inline(always)]
-fn select3<V: F32s>(m: V::M, a: [V; 3], b: [V; 3]) -> [V; 3] {
-    [V::select(m, a[0], b[0]), V::select(m, a[1], b[1]), V::select(m, a[2], b[2])]
 }
 
 /// `a w + b u + c v` on one axis, summed in that order.

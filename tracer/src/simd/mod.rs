@@ -13,6 +13,7 @@
 //! `NFFKIT_SIMD=portable|avx2|avx512` caps the choice (for measuring the
 //! difference and for the test that the kernels agree).
 
+pub mod vec3;
 pub mod vector;
 
 use std::sync::OnceLock;
