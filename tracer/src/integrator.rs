@@ -18,6 +18,7 @@
 //!   reflection, when the transmitted share goes to that one reflection ray.
 
 use crate::accel::{test_shadow, Intersector};
+use crate::bounce_lanes::{bounces, lane, BounceLanes};
 use crate::geometry::Hit;
 use crate::material::WhittedMaterial;
 use crate::math::{basis, offset_ray_origin, reflect, refract, shadow_ray, Ray, RayQuery};
@@ -186,8 +187,7 @@ impl<I: Intersector> Whitted<'_, I> {
                 th.counters.eye_hits += 1;
             }
             let m = scene.materials[geom.info[hits.prim[i] as usize].material as usize];
-            let lane = |v: &[Lanes; 3]| Vec3A::new(v[0].0[i], v[1].0[i], v[2].0[i]);
-            let (p, ng, ns, d) = (lane(&at.p), lane(&at.ng), lane(&at.ns), lane(&packet.d));
+            let (p, ng, ns, d) = (lane(&at.p, i), lane(&at.ng, i), lane(&at.ns, i), lane(&packet.d, i));
             color[i] = scene.ambient * m.kd * m.color;
             points[i] = Some(ShadePoint { p, ng, ns, d, entering: entering >> i & 1 != 0, m });
         }
@@ -197,11 +197,14 @@ impl<I: Intersector> Whitted<'_, I> {
         }
         // Spawned rays, gathered per kind so that each kind is one packet.
         let mut spawned = [[None; LANES]; 3];
-        for (i, sp) in points.iter().enumerate() {
-            if let Some(sp) = sp {
-                let rays_i = self.spawn(sp, depth, rays[i].2, &mut th.counters);
-                for (kind, r) in rays_i.into_iter().enumerate() {
-                    spawned[kind][i] = r;
+        if depth < self.settings.max_depth {
+            let b = self.bounce_lanes(&points, &at, &packet);
+            for (i, sp) in points.iter().enumerate() {
+                if let Some(sp) = sp {
+                    let rays_i = self.spawn_lane(&sp.m, &b, i, rays[i].2, &mut th.counters);
+                    for (kind, r) in rays_i.into_iter().enumerate() {
+                        spawned[kind][i] = r;
+                    }
                 }
             }
         }
@@ -213,6 +216,30 @@ impl<I: Intersector> Whitted<'_, I> {
                 out[i] = color[i];
             }
         }
+    }
+
+    /// The bounces ([`bounces`]) of the lanes of `points` whose material
+    /// reflects or transmits; `at` holds the points, `packet` the rays.
+    fn bounce_lanes(
+        &self,
+        points: &[Option<ShadePoint>; LANES],
+        at: &PointLanes,
+        packet: &RayPacket,
+    ) -> BounceLanes {
+        let mut b = BounceLanes::default();
+        let mut eta = Lanes([0.0; LANES]);
+        let mut want = 0;
+        for (i, sp) in points.iter().enumerate() {
+            let Some(sp) = sp else { continue };
+            if sp.m.ks > 0.0 || sp.m.t > 0.0 {
+                eta.0[i] = if sp.entering { 1.0 / sp.m.ior } else { sp.m.ior };
+                want |= 1 << i;
+            }
+        }
+        if want != 0 {
+            bounces(crate::simd::isa(), at, &packet.d, &eta, want, &mut b);
+        }
+        b
     }
 
     /// Add light `k` to the lanes of `points` whose shadow rays, set up
@@ -349,22 +376,59 @@ impl<I: Intersector> Whitted<'_, I> {
     /// internal reflection (plain rule only), the refracted ray. Counts
     /// them.
     fn spawn(&self, sp: &ShadePoint, depth: u32, weight: f32, c: &mut Counters) -> [Option<(Ray, f32)>; 3] {
-        let mut out = [None; 3];
         if depth >= self.settings.max_depth {
-            return out;
+            return [None; 3];
         }
         let ShadePoint { p, ng, ns, d, entering, m } = *sp;
-        let min = self.settings.min_weight;
         let refracted = if m.t > 0.0 {
             let eta = if entering { 1.0 / m.ior } else { m.ior };
-            refract(d, ns, eta).filter(|t| t.dot(ng) < 0.0)
+            refract(d, ns, eta)
+                .filter(|t| t.dot(ng) < 0.0)
+                .map(|t| Ray { o: offset_ray_origin(p, -ng), d: t })
         } else {
             None
         };
+        self.choose_rays(
+            &m,
+            weight,
+            refracted,
+            || Ray { o: offset_ray_origin(p, ng), d: self.mirror(d, ns, ng) },
+            c,
+        )
+    }
+
+    /// [`Whitted::spawn`] for lane `i` of a packet whose bounces were
+    /// computed lane-wise ([`bounces`]).
+    fn spawn_lane(
+        &self,
+        m: &WhittedMaterial,
+        b: &BounceLanes,
+        i: usize,
+        weight: f32,
+        c: &mut Counters,
+    ) -> [Option<(Ray, f32)>; 3] {
+        let refracted = (m.t > 0.0 && b.refracts >> i & 1 != 0)
+            .then(|| Ray { o: lane(&b.refract_o, i), d: lane(&b.refract_d, i) });
+        self.choose_rays(m, weight, refracted, || Ray { o: lane(&b.mirror_o, i), d: lane(&b.mirror_d, i) }, c)
+    }
+
+    /// Which rays a hit on material `m` spawns, given its refracted ray
+    /// (`None` on total internal reflection or where `m` transmits nothing)
+    /// and its mirror ray: the rule of [`Whitted::spawn`].
+    fn choose_rays(
+        &self,
+        m: &WhittedMaterial,
+        weight: f32,
+        refracted: Option<Ray>,
+        mirror_ray: impl Fn() -> Ray,
+        c: &mut Counters,
+    ) -> [Option<(Ray, f32)>; 3] {
+        let mut out = [None; 3];
+        let min = self.settings.min_weight;
         let tir = m.t > 0.0 && refracted.is_none();
         let mut mirror = |share: f32| {
             c.reflected += 1;
-            Some((Ray { o: offset_ray_origin(p, ng), d: self.mirror(d, ns, ng) }, share))
+            Some((mirror_ray(), share))
         };
         if self.settings.spd_rules {
             // Rules 8 and 9: one reflection ray at any reflector or
@@ -382,10 +446,10 @@ impl<I: Intersector> Whitted<'_, I> {
                 out[1] = mirror(m.t);
             }
         }
-        if let Some(t) = refracted {
+        if let Some(ray) = refracted {
             if weight * m.t >= min {
                 c.refracted += 1;
-                out[2] = Some((Ray { o: offset_ray_origin(p, -ng), d: t }, m.t));
+                out[2] = Some((ray, m.t));
             }
         }
         out

@@ -14,6 +14,7 @@
 
 pub mod aabb;
 pub mod accel;
+pub mod bounce_lanes;
 pub mod camera;
 #[cfg(feature = "clap")]
 mod cli;

@@ -281,6 +281,63 @@ fn surfaces_of_many_hits_of_every_kind_equal_the_single_ray_records() {
     assert!(kinds.iter().all(|&n| n > 200), "too few hits of some kind (sphere, triangle, other): {kinds:?}");
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    /// The mirror and refracted rays set up lane-wise are the rays
+    /// `Whitted::spawn` sets up alone, bit for bit: directions (the mirror
+    /// about the shading normal unless it dives below the surface), which
+    /// lanes refract, and both origins.
+    #[test]
+    fn bounces_set_up_lane_wise_equal_the_scalar_setup(
+        hits in prop::collection::vec((prop::array::uniform3(-3.0f32..3.0), prop::array::uniform3(-1.0f32..1.0), prop::array::uniform3(-0.3f32..0.3), prop::array::uniform3(-1.0f32..1.0), 0.4f32..2.5), LANES),
+        tiny in any::<bool>(),
+        want in any::<u16>(),
+    ) {
+        use nffkit_tracer::bounce_lanes::{bounces, lane, BounceLanes};
+        use nffkit_tracer::math::{offset_ray_origin, reflect, refract};
+        use nffkit_tracer::packet::Lanes;
+        use nffkit_tracer::shadow_lanes::PointLanes;
+        let mut at = PointLanes::default();
+        let (mut d, mut eta) = ([Lanes([0.0; LANES]); 3], Lanes([0.0; LANES]));
+        let mut scalar = Vec::new();
+        for (i, &(p, ng, tilt, dir, e)) in hits.iter().enumerate() {
+            // Points near the origin (the offsets' float branch) too; the
+            // normals face the ray, the shading normal tilted off the
+            // geometric one as a patch's is.
+            let p = Vec3A::from(p) * if tiny { 1e-3 } else { 1.0 };
+            let ng = Vec3A::from(ng).normalize_or(Vec3A::Z);
+            let ns = (ng + Vec3A::from(tilt)).normalize_or(ng);
+            let mut dir = Vec3A::from(dir).normalize_or(-Vec3A::Z);
+            if dir.dot(ng) > 0.0 { dir = -dir; }
+            for a in 0..3 {
+                (at.p[a].0[i], at.ng[a].0[i], at.ns[a].0[i], d[a].0[i]) = (p[a], ng[a], ns[a], dir[a]);
+            }
+            eta.0[i] = e;
+            let r = reflect(dir, ns);
+            let mirror = if r.dot(ng) > 0.0 { r } else { reflect(dir, ng) };
+            let refracted = refract(dir, ns, e).filter(|t| t.dot(ng) < 0.0);
+            scalar.push((offset_ray_origin(p, ng), mirror, offset_ray_origin(p, -ng), refracted));
+        }
+        let bits = |v: Vec3A| v.to_array().map(f32::to_bits);
+        let want = u32::from(want);
+        for isa in Isa::available() {
+            let mut b = BounceLanes::default();
+            bounces(isa, &at, &d, &eta, want, &mut b);
+            prop_assert_eq!(b.refracts & !want, 0);
+            for (i, (mo, md, ro, t)) in scalar.iter().enumerate().filter(|(i, _)| want >> i & 1 != 0) {
+                prop_assert_eq!(bits(lane(&b.mirror_o, i)), bits(*mo), "{} lane {} mirror origin", isa, i);
+                prop_assert_eq!(bits(lane(&b.mirror_d, i)), bits(*md), "{} lane {} mirror", isa, i);
+                prop_assert_eq!(b.refracts >> i & 1 != 0, t.is_some(), "{} lane {} refracts", isa, i);
+                if let Some(t) = t {
+                    prop_assert_eq!(bits(lane(&b.refract_o, i)), bits(*ro), "{} lane {} refracted origin", isa, i);
+                    prop_assert_eq!(bits(lane(&b.refract_d, i)), bits(*t), "{} lane {} refracted", isa, i);
+                }
+            }
+        }
+    }
+}
+
 /// The scalar setup of a shadow ray (`Whitted::light_ray`): the light
 /// direction, N·L, and the ray's query and length, or where it stops.
 fn scalar_shadow_ray(
