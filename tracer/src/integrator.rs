@@ -196,20 +196,23 @@ impl<I: Intersector> Whitted<'_, I> {
             self.light_packet(k, depth, &points, &at, ids, &mut color, &mut shadow, th);
         }
         // Spawned rays, gathered per kind so that each kind is one packet.
-        let mut spawned = [[None; LANES]; 3];
-        if depth < self.settings.max_depth {
-            let b = self.bounce_lanes(&points, &at, &packet);
-            for (i, sp) in points.iter().enumerate() {
-                if let Some(sp) = sp {
-                    let rays_i = self.spawn_lane(&sp.m, &b, i, rays[i].2, &mut th.counters);
-                    for (kind, r) in rays_i.into_iter().enumerate() {
-                        spawned[kind][i] = r;
-                    }
+        // (Most packets, on matte surfaces or at the last level, spawn
+        // nothing: then neither the lanes' rays nor their packets are set up.)
+        let b = self.bounce_lanes(&points, &at, &packet, depth);
+        if b.want != 0 {
+            let mut spawned = [[None; LANES]; 3];
+            let mut any = [false; 3];
+            for_lanes(b.want, |i| {
+                let Some(sp) = &points[i] else { return };
+                let rays_i = self.spawn_lane(&sp.m, &b, i, rays[i].2, &mut th.counters);
+                for (kind, r) in rays_i.into_iter().enumerate() {
+                    any[kind] |= r.is_some();
+                    spawned[kind][i] = r;
                 }
+            });
+            for (kind, _) in spawned.iter().zip(any).filter(|k| k.1) {
+                self.trace_spawned(kind, depth + 1, rays, ids, &mut color, th);
             }
-        }
-        for kind in &spawned {
-            self.trace_spawned(kind, depth + 1, rays, ids, &mut color, th);
         }
         for (i, sp) in points.iter().enumerate() {
             if sp.is_some() {
@@ -218,26 +221,30 @@ impl<I: Intersector> Whitted<'_, I> {
         }
     }
 
-    /// The bounces ([`bounces`]) of the lanes of `points` whose material
-    /// reflects or transmits; `at` holds the points, `packet` the rays.
+    /// The bounces ([`bounces`]) of the lanes of `points` (at `depth`)
+    /// that may spawn rays: their material reflects or transmits, and the
+    /// depth limit is not reached. `at` holds the points, `packet` the rays.
     fn bounce_lanes(
         &self,
         points: &[Option<ShadePoint>; LANES],
         at: &PointLanes,
         packet: &RayPacket,
+        depth: u32,
     ) -> BounceLanes {
         let mut b = BounceLanes::default();
+        if depth >= self.settings.max_depth {
+            return b;
+        }
         let mut eta = Lanes([0.0; LANES]);
-        let mut want = 0;
         for (i, sp) in points.iter().enumerate() {
             let Some(sp) = sp else { continue };
             if sp.m.ks > 0.0 || sp.m.t > 0.0 {
                 eta.0[i] = if sp.entering { 1.0 / sp.m.ior } else { sp.m.ior };
-                want |= 1 << i;
+                b.want |= 1 << i;
             }
         }
-        if want != 0 {
-            bounces(crate::simd::isa(), at, &packet.d, &eta, want, &mut b);
+        if b.want != 0 {
+            bounces(crate::simd::isa(), at, &packet.d, &eta, b.want, &mut b);
         }
         b
     }
