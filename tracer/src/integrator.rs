@@ -103,13 +103,13 @@ pub const FIRST_LIGHT_DIMENSION: u32 = 2;
 /// What shading needs of a hit: the point, normals facing the incoming ray
 /// (two-sided shading), the ray's direction and the material.
 #[derive(Clone, Copy)]
-struct ShadePoint {
+struct ShadePoint<'s> {
     p: Vec3A,
     ng: Vec3A,
     ns: Vec3A,
     d: Vec3A,
     entering: bool,
-    m: WhittedMaterial,
+    m: &'s WhittedMaterial,
 }
 
 /// A shadow ray toward one light, with the light direction and N·L that its
@@ -186,7 +186,7 @@ impl<I: Intersector> Whitted<'_, I> {
             if depth == 1 {
                 th.counters.eye_hits += 1;
             }
-            let m = scene.materials[geom.info[hits.prim[i] as usize].material as usize];
+            let m = &scene.materials[geom.info[hits.prim[i] as usize].material as usize];
             let (p, ng, ns, d) = (lane(&at.p, i), lane(&at.ng, i), lane(&at.ns, i), lane(&packet.d, i));
             color[i] = scene.ambient * m.kd * m.color;
             points[i] = Some(ShadePoint { p, ng, ns, d, entering: entering >> i & 1 != 0, m });
@@ -204,7 +204,7 @@ impl<I: Intersector> Whitted<'_, I> {
             let mut any = [false; 3];
             for_lanes(b.want, |i| {
                 let Some(sp) = &points[i] else { return };
-                let rays_i = self.spawn_lane(&sp.m, &b, i, rays[i].2, &mut th.counters);
+                let rays_i = self.spawn_lane(sp.m, &b, i, rays[i].2, &mut th.counters);
                 for (kind, r) in rays_i.into_iter().enumerate() {
                     any[kind] |= r.is_some();
                     spawned[kind][i] = r;
@@ -338,11 +338,11 @@ impl<I: Intersector> Whitted<'_, I> {
 
     /// The shading record of `hit` on the ray of `q`.
     #[inline]
-    fn shade_point(&self, q: &RayQuery, hit: &Hit) -> ShadePoint {
+    fn shade_point(&self, q: &RayQuery, hit: &Hit) -> ShadePoint<'_> {
         let scene = self.scene;
         let s = scene.geometry.surface(hit, q);
         let info = scene.geometry.info[hit.prim as usize];
-        let m = scene.materials[info.material as usize];
+        let m = &scene.materials[info.material as usize];
         let d = q.ray.d;
         // Face the normals towards the incoming ray (two-sided shading).
         let entering = s.ng.dot(d) < 0.0;
@@ -354,7 +354,7 @@ impl<I: Intersector> Whitted<'_, I> {
     /// when its shadow ray is clear.
     #[inline]
     fn direct(&self, sp: &ShadePoint, k: usize, l: Vec3A, n_dot_l: f32) -> Vec3A {
-        let m = &sp.m;
+        let m = sp.m;
         let r = reflect(-l, sp.ns);
         let spec = if m.ks > 0.0 { m.ks * r.dot(-sp.d).max(0.0).powf(m.shine) } else { 0.0 };
         self.scene.lights[k].intensity * (m.kd * n_dot_l * m.color + Vec3A::splat(spec))
@@ -396,7 +396,7 @@ impl<I: Intersector> Whitted<'_, I> {
             None
         };
         self.choose_rays(
-            &m,
+            m,
             weight,
             refracted,
             || Ray { o: offset_ray_origin(p, ng), d: self.mirror(d, ns, ng) },
