@@ -169,43 +169,51 @@ impl Bvh {
     ) -> Option<Hit> {
         let r = Ray4::new(q);
         let stack = &mut stack[..STACK];
-        stack[0] = start;
-        let mut sp = 1;
-        while sp > 0 {
-            sp -= 1;
-            let e = stack[sp];
+        let (mut e, mut sp) = (start, 0);
+        // The nearest child hit is entered at once; the others wait on the
+        // stack, farthest deepest.
+        loop {
             let limit = best.map_or(t_max, |h| h.t);
-            if e.t > limit {
-                continue; // a nearer hit was found since this was pushed
-            }
-            if e.count > 0 {
-                for &id in &self.prims[e.child as usize..(e.child + e.count) as usize] {
-                    test_prim(geom, id, q, &mut best, t_max, c);
+            // (An entry farther than the best hit: skipped.)
+            if e.t <= limit {
+                if e.count > 0 {
+                    for &id in &self.prims[e.child as usize..(e.child + e.count) as usize] {
+                        test_prim(geom, id, q, &mut best, t_max, c);
+                    }
+                } else {
+                    c.visits += 1;
+                    let node = &self.wide[e.child as usize];
+                    let (t, mut mask) = node.hit(&r, limit);
+                    let mut hits = [(0.0f32, 0usize); 4];
+                    let mut n = 0;
+                    while mask != 0 {
+                        let slot = mask.trailing_zeros() as usize;
+                        mask &= mask - 1;
+                        let ts = t[slot];
+                        let mut k = n;
+                        while k > 0 && hits[k - 1].0 < ts {
+                            hits[k] = hits[k - 1];
+                            k -= 1;
+                        }
+                        hits[k] = (ts, slot);
+                        n += 1;
+                    }
+                    if n > 0 {
+                        for &(ts, slot) in &hits[..n - 1] {
+                            stack[sp] = node.entry(slot, ts);
+                            sp += 1;
+                        }
+                        let (ts, slot) = hits[n - 1];
+                        e = node.entry(slot, ts);
+                        continue;
+                    }
                 }
-                continue;
             }
-            c.visits += 1;
-            let node = &self.wide[e.child as usize];
-            let (t, mut mask) = node.hit(&r, limit);
-            // Push the hit children farthest first, so the nearest pops next.
-            let mut hits = [(0.0f32, 0usize); 4];
-            let mut n = 0;
-            while mask != 0 {
-                let slot = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                let ts = t[slot];
-                let mut k = n;
-                while k > 0 && hits[k - 1].0 < ts {
-                    hits[k] = hits[k - 1];
-                    k -= 1;
-                }
-                hits[k] = (ts, slot);
-                n += 1;
+            if sp == 0 {
+                break;
             }
-            for &(ts, slot) in &hits[..n] {
-                stack[sp] = node.entry(slot, ts);
-                sp += 1;
-            }
+            sp -= 1;
+            e = stack[sp];
         }
         best
     }
@@ -224,28 +232,36 @@ impl Bvh {
     ) -> Option<u32> {
         let r = Ray4::new(q);
         let stack = &mut stack[..STACK];
-        stack[0] = start;
-        let mut sp = 1;
-        while sp > 0 {
-            sp -= 1;
-            let e = stack[sp];
+        let (mut e, mut sp) = (start, 0);
+        // One child hit (the last) is entered at once, the others stacked.
+        loop {
             if e.count > 0 {
                 for &id in &self.prims[e.child as usize..(e.child + e.count) as usize] {
                     if test_shadow(geom, id, q, t_max, c) {
                         return Some(id);
                     }
                 }
-                continue;
+            } else {
+                c.visits += 1;
+                let node = &self.wide[e.child as usize];
+                let (t, mut mask) = node.hit(&r, t_max);
+                if mask != 0 {
+                    while mask & (mask - 1) != 0 {
+                        let slot = mask.trailing_zeros() as usize;
+                        mask &= mask - 1;
+                        stack[sp] = node.entry(slot, t[slot]);
+                        sp += 1;
+                    }
+                    let slot = mask.trailing_zeros() as usize;
+                    e = node.entry(slot, t[slot]);
+                    continue;
+                }
             }
-            c.visits += 1;
-            let node = &self.wide[e.child as usize];
-            let (t, mut mask) = node.hit(&r, t_max);
-            while mask != 0 {
-                let slot = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                stack[sp] = node.entry(slot, t[slot]);
-                sp += 1;
+            if sp == 0 {
+                break;
             }
+            sp -= 1;
+            e = stack[sp];
         }
         None
     }
