@@ -18,7 +18,6 @@ use crate::packet::{Lanes, Mask, LANES};
 use crate::shadow_lanes::PointLanes;
 use crate::simd::vec3::{add3, dot, load3, neg3, normalize, offset, scale3, select3, store3, sub3};
 use crate::simd::vector::{group_active, group_bits, F32s};
-use glam::Vec3A;
 
 /// The secondary rays' geometry at each lane's hit.
 #[derive(Debug, Clone)]
@@ -44,12 +43,6 @@ impl Default for BounceLanes {
         let zero = [Lanes([0.0; LANES]); 3];
         BounceLanes { mirror_o: zero, mirror_d: zero, refract_o: zero, refract_d: zero, refracts: 0, want: 0 }
     }
-}
-
-/// Lane `i` of `v`.
-#[inline]
-pub fn lane(v: &[Lanes; 3], i: usize) -> Vec3A {
-    Vec3A::new(v[0].0[i], v[1].0[i], v[2].0[i])
 }
 
 crate::dispatch! {

@@ -18,11 +18,11 @@
 //!   reflection, when the transmitted share goes to that one reflection ray.
 
 use crate::accel::{test_shadow, Intersector};
-use crate::bounce_lanes::{bounces, lane, BounceLanes};
+use crate::bounce_lanes::{bounces, BounceLanes};
 use crate::geometry::Hit;
 use crate::material::WhittedMaterial;
 use crate::math::{basis, offset_ray_origin, reflect, refract, shadow_ray, Ray, RayQuery};
-use crate::packet::{for_lanes, occludes, Lanes, PacketHits, RayPacket, LANES, NO_PRIM};
+use crate::packet::{for_lanes, lane, occludes, set_lane, Lanes, PacketHits, RayPacket, LANES, NO_PRIM};
 use crate::prepare::RenderScene;
 use crate::sampling::{concentric_disk, Sampler};
 use crate::shadow_cache::ShadowCache;
@@ -270,10 +270,7 @@ impl<I: Intersector> Whitted<'_, I> {
         let mut valid = 0;
         for (i, sp) in points.iter().enumerate() {
             let Some(sp) = sp else { continue };
-            let p = self.light_position(k, center, sp.p, depth, ids[i]);
-            for a in 0..3 {
-                pos[a].0[i] = p[a];
-            }
+            set_lane(&mut pos, i, self.light_position(k, center, sp.p, depth, ids[i]));
             valid |= 1 << i;
         }
         let mut dirs = LightLanes::default();
@@ -291,9 +288,8 @@ impl<I: Intersector> Whitted<'_, I> {
         let blockers = self.accel.occluders_packet(geom, shadow, &mut th.scratch, &mut th.counters);
         for_lanes(shadow.active, |i| match blockers[i] {
             NO_PRIM => {
-                let l = Vec3A::new(dirs.l[0].0[i], dirs.l[1].0[i], dirs.l[2].0[i]);
                 if let Some(sp) = &points[i] {
-                    color[i] += self.direct(sp, k, l, dirs.n_dot_l.0[i]);
+                    color[i] += self.direct(sp, k, lane(&dirs.l, i), dirs.n_dot_l.0[i]);
                 }
             }
             id => th.shadow_cache.set(k, depth, id),

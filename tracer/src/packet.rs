@@ -28,6 +28,20 @@ pub const NO_PRIM: u32 = u32::MAX;
 #[repr(C, align(64))]
 pub struct Lanes(pub [f32; LANES]);
 
+/// Lane `i` of three per-axis lane arrays, as a vector.
+#[inline(always)]
+pub fn lane(v: &[Lanes; 3], i: usize) -> glam::Vec3A {
+    glam::Vec3A::new(v[0].0[i], v[1].0[i], v[2].0[i])
+}
+
+/// Set lane `i` of three per-axis lane arrays to `x`.
+#[inline(always)]
+pub fn set_lane(v: &mut [Lanes; 3], i: usize, x: glam::Vec3A) {
+    for a in 0..3 {
+        v[a].0[i] = x[a];
+    }
+}
+
 /// Up to [`LANES`] rays with the per-ray constants of [`RayQuery`], in
 /// structure-of-arrays form.
 #[derive(Debug, Clone)]
@@ -75,10 +89,8 @@ impl RayPacket {
         };
         let mut mask = 0;
         for (i, (ray, t_min, t_max)) in rays.into_iter().enumerate().take(LANES) {
-            for a in 0..3 {
-                p.o[a].0[i] = ray.o[a];
-                p.d[a].0[i] = ray.d[a];
-            }
+            set_lane(&mut p.o, i, ray.o);
+            set_lane(&mut p.d, i, ray.d);
             p.t_min.0[i] = t_min;
             p.t_max.0[i] = t_max;
             mask |= 1 << i;
@@ -91,11 +103,11 @@ impl RayPacket {
 
     /// Put query `q` with far limit `t_max` in lane `i`.
     pub fn set(&mut self, i: usize, q: RayQuery, t_max: f32) {
+        set_lane(&mut self.o, i, q.ray.o);
+        set_lane(&mut self.d, i, q.ray.d);
+        set_lane(&mut self.inv, i, q.inv_d);
+        set_lane(&mut self.shear, i, q.shear);
         for a in 0..3 {
-            self.o[a].0[i] = q.ray.o[a];
-            self.d[a].0[i] = q.ray.d[a];
-            self.inv[a].0[i] = q.inv_d[a];
-            self.shear[a].0[i] = q.shear[a];
             let bit = 1 << i;
             self.neg[a] = if q.neg[a] { self.neg[a] | bit } else { self.neg[a] & !bit };
         }
@@ -109,13 +121,12 @@ impl RayPacket {
     /// without a lane-wise test), rebuilt from the lanes bit for bit.
     #[inline(always)]
     pub fn query(&self, i: usize) -> RayQuery {
-        let v = |a: &[Lanes; 3]| glam::Vec3A::new(a[0].0[i], a[1].0[i], a[2].0[i]);
         RayQuery {
-            ray: Ray { o: v(&self.o), d: v(&self.d) },
-            inv_d: v(&self.inv),
+            ray: Ray { o: lane(&self.o, i), d: lane(&self.d, i) },
+            inv_d: lane(&self.inv, i),
             neg: [0, 1, 2].map(|a| self.neg[a] >> i & 1 != 0),
             k: self.k[i].map(usize::from),
-            shear: v(&self.shear),
+            shear: lane(&self.shear, i),
             t_min: self.t_min.0[i],
         }
     }

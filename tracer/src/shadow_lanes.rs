@@ -4,12 +4,11 @@
 //! constants of [`crate::math::RayQuery`], written straight into a
 //! [`RayPacket`]. Operation for operation the scalar code of
 //! `Whitted::light_ray`, `shadow_ray`, `offset_ray_origin` and
-//! `RayQuery::new` (glam's dot products sum x, y then z; its `normalize`
-//! divides by the length), so every lane gets the bits a ray set up alone
-//! gets, and images do not depend on packets.
+//! `RayQuery::new` (with [`crate::simd::vec3`]), so every lane gets the
+//! bits a ray set up alone gets, and images do not depend on packets.
 
 use crate::packet::{Lanes, Mask, Permutations, RayPacket, LANES};
-use crate::simd::vec3::{div3, dot, load3, neg3, offset, select3, sub3};
+use crate::simd::vec3::{div3, dot, load3, neg3, normalize, offset, select3, sub3};
 use crate::simd::vector::{group_active, group_bits, F32s};
 
 /// Hit points of a packet in structure-of-arrays form: position, geometric
@@ -103,9 +102,7 @@ fn shadow_rays_body<V: F32s>(
         let front = zero.le(dot(ng, l));
         let side = select3(front, ng, neg3(ng));
         let origin = offset(p, side);
-        let v = sub3(pos, origin);
-        let len = dot(v, v).sqrt();
-        let d = div3(v, len);
+        let d = normalize(sub3(pos, origin));
         let end = offset(pos, neg3(d));
         let max = dot(sub3(end, origin), d);
         rays |= group_bits::<V>(zero.lt(max), g);

@@ -14,9 +14,9 @@
 //! [`Geometry::surface`] lane by lane.
 
 use crate::geometry::{Geometry, Kind};
-use crate::packet::{for_lanes, Lanes, Mask, PacketHits, RayPacket, LANES};
+use crate::packet::{for_lanes, set_lane, Lanes, Mask, PacketHits, RayPacket, LANES};
 use crate::shadow_lanes::PointLanes;
-use crate::simd::vec3::{cross, dot, load3, normalize, select3, store3, sub3};
+use crate::simd::vec3::{add3, cross, div3, dot, load3, normalize, scale3, select3, store3, sub3};
 use crate::simd::vector::{group_active, group_bits, F32s};
 use crate::simd::Isa;
 
@@ -46,14 +46,6 @@ impl Gathered {
     }
 }
 
-/// Lane `i` of `v` set to `x`.
-#[inline(always)]
-fn put(v: &mut [Lanes; 3], i: usize, x: glam::Vec3A) {
-    for a in 0..3 {
-        v[a].0[i] = x[a];
-    }
-}
-
 /// Fill `out` with the point and the facing normals of every lane of `hit`
 /// (lanes of `p` with a hit in `hits`) and return the lanes whose ray
 /// enters its surface (hits the side the geometric normal points to),
@@ -72,23 +64,23 @@ pub fn surfaces(
         match geom.locate(id) {
             (Kind::Sphere, k) => {
                 let s = &geom.spheres[k];
-                put(&mut g.a, i, s.center);
+                set_lane(&mut g.a, i, s.center);
                 g.radius.0[i] = s.radius;
                 g.kind.0[i] = SPHERE;
             }
             (Kind::Triangle, k) if geom.info[id as usize].patch.is_none() => {
                 let [a, b, c] = geom.triangles[k].v;
-                put(&mut g.a, i, a);
-                put(&mut g.b, i, b);
-                put(&mut g.c, i, c);
+                set_lane(&mut g.a, i, a);
+                set_lane(&mut g.b, i, b);
+                set_lane(&mut g.c, i, c);
                 g.kind.0[i] = TRIANGLE;
             }
             _ => {
                 let Some(h) = hits.get(i) else { return };
                 let s = geom.surface(&h, &p.query(i));
-                put(&mut out.p, i, s.p);
-                put(&mut out.ng, i, s.ng);
-                put(&mut out.ns, i, s.ns);
+                set_lane(&mut out.p, i, s.p);
+                set_lane(&mut out.ng, i, s.ng);
+                set_lane(&mut out.ns, i, s.ns);
             }
         }
     });
@@ -133,10 +125,9 @@ fn surface_body<V: F32s>(
         let (t, u, v) = (V::load(&hits.t.0, k), V::load(&hits.u.0, k), V::load(&hits.v.0, k));
         let a = load3::<V>(&g.a, k);
         // Sphere: p = o + d t, n = ((p - c) / r).normalize().
-        let at = [o[0].add(d[0].mul(t)), o[1].add(d[1].mul(t)), o[2].add(d[2].mul(t))];
-        let r = V::load(&g.radius.0, k);
-        let rel = sub3(at, a);
-        let sphere_n = normalize([rel[0].div(r), rel[1].div(r), rel[2].div(r)]);
+        // (Products commute bit for bit: t d is d t.)
+        let at = add3(o, scale3(t, d));
+        let sphere_n = normalize(div3(sub3(at, a), V::load(&g.radius.0, k)));
         // Flat triangle: p from the barycentrics, n = (b - a) × (c - a).
         let (b, c) = (load3::<V>(&g.b, k), load3::<V>(&g.c, k));
         let w = one.sub(u).sub(v);
@@ -156,8 +147,8 @@ fn surface_body<V: F32s>(
         let enters = dot(ng, d).lt(zero);
         let flip = V::select(enters, one, one.neg());
         store3(pos, &mut out.p, k);
-        store3([ng[0].mul(flip), ng[1].mul(flip), ng[2].mul(flip)], &mut out.ng, k);
-        store3([ns[0].mul(flip), ns[1].mul(flip), ns[2].mul(flip)], &mut out.ns, k);
+        store3(scale3(flip, ng), &mut out.ng, k);
+        store3(scale3(flip, ns), &mut out.ns, k);
         entering |= group_bits::<V>(enters, k);
     }
     entering & hit

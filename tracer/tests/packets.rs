@@ -206,7 +206,7 @@ fn renders_with_packets_equal_renders_without() {
 /// and anything else.
 fn check_surfaces(g: &Geometry, bvh: &Bvh, p: &RayPacket, isa: Isa) -> [usize; 3] {
     use nffkit_tracer::geometry::Kind;
-    use nffkit_tracer::packet::Lanes;
+    use nffkit_tracer::packet::lane;
     use nffkit_tracer::shadow_lanes::PointLanes;
     use nffkit_tracer::surface_lanes::surfaces;
     let (mut scratch, mut c) = (bvh.scratch(g), Counters::default());
@@ -223,11 +223,10 @@ fn check_surfaces(g: &Geometry, bvh: &Bvh, p: &RayPacket, isa: Isa) -> [usize; 3
         let s = g.surface(&hits.get(i).unwrap(), &q);
         let enters = s.ng.dot(q.ray.d) < 0.0;
         let flip = if enters { 1.0 } else { -1.0 };
-        let lane = |v: &[Lanes; 3]| Vec3A::new(v[0].0[i], v[1].0[i], v[2].0[i]);
         assert_eq!(entering >> i & 1 != 0, enters, "{isa} lane {i} side");
-        assert_eq!(bits(lane(&at.p)), bits(s.p), "{isa} lane {i} point");
-        assert_eq!(bits(lane(&at.ng)), bits(s.ng * flip), "{isa} lane {i} normal");
-        assert_eq!(bits(lane(&at.ns)), bits(s.ns * flip), "{isa} lane {i} shading normal");
+        assert_eq!(bits(lane(&at.p, i)), bits(s.p), "{isa} lane {i} point");
+        assert_eq!(bits(lane(&at.ng, i)), bits(s.ng * flip), "{isa} lane {i} normal");
+        assert_eq!(bits(lane(&at.ns, i)), bits(s.ns * flip), "{isa} lane {i} shading normal");
         kinds[match g.locate(hits.prim[i]).0 {
             Kind::Sphere => 0,
             Kind::Triangle => 1,
@@ -273,7 +272,8 @@ proptest! {
         tiny in any::<bool>(),
         want in any::<u16>(),
     ) {
-        use nffkit_tracer::bounce_lanes::{bounces, lane, BounceLanes};
+        use nffkit_tracer::bounce_lanes::{bounces, BounceLanes};
+        use nffkit_tracer::packet::lane;
         use nffkit_tracer::math::{offset_ray_origin, reflect, refract};
         use nffkit_tracer::packet::Lanes;
         use nffkit_tracer::shadow_lanes::PointLanes;
@@ -387,8 +387,7 @@ proptest! {
                 prop_assert_eq!(bits(got.shear), bits(q.shear));
                 prop_assert_eq!((got.neg, got.k, got.t_min), (q.neg, q.k, q.t_min));
                 prop_assert_eq!(packet.t_max.0[i].to_bits(), max.to_bits());
-                let dl = Vec3A::new(dirs.l[0].0[i], dirs.l[1].0[i], dirs.l[2].0[i]);
-                prop_assert_eq!(bits(dl), bits(*l));
+                prop_assert_eq!(bits(nffkit_tracer::packet::lane(&dirs.l, i)), bits(*l));
                 prop_assert_eq!(dirs.n_dot_l.0[i].to_bits(), n_dot_l.to_bits());
             }
         }

@@ -192,8 +192,8 @@ fn sah_split(prims: &mut [BuildPrim], boxes: &Boxes) -> Option<Split> {
 /// primitive test does) splits almost every such group, yet on the
 /// sphereflake and balls_s4 (1 and 16 spp) and in eye-ray throughput the
 /// renders took the same time with leaves of up to 4 spheres as with the
-/// SAH's, while the 600,000-sphere sphereflake built in 133 ms instead of
-/// 156 (best of 5, side by side). Triangles keep the SAH's choice: forced
+/// SAH's, while the 600,000-sphere sphereflake's BVH built in 123-124 ms
+/// instead of 143-146 (best of 5, three runs side by side). Triangles keep the SAH's choice: forced
 /// leaves of four cost mount_s7 8% of its eye-ray throughput.
 #[inline]
 fn small_sphere_leaf(prims: &[BuildPrim]) -> bool {
