@@ -3,8 +3,6 @@
 //! fans, GLB, embedded buffers, sparse accessors), checked through the
 //! project's own NFF reader.
 
-mod common;
-
 use glam::DVec3;
 use nffkit_formats::nff::{self, ParseOptions};
 use nffkit_formats::{Scene, Shape};
@@ -289,7 +287,7 @@ fn glb_loads_like_gltf() {
 "meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"buffers":[{"byteLength":36}],
 "bufferViews":[{"buffer":0,"byteLength":36}],
 "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}]}"#;
-    let glb = common::glb(json, &bin);
+    let glb = crate::common::glb(json, &bin);
     let p = dir.path().join("t.glb");
     std::fs::write(&p, glb).unwrap();
     let (scene, _, _) = convert(&p, &Options::default());

@@ -3,10 +3,8 @@
 //! colours, emission turned into lights, glTF cameras, the lights added for
 //! what the camera sees, and the folder rule for referenced files.
 
-mod common;
-
+use crate::common::glb;
 use base64::Engine;
-use common::glb;
 use glam::DVec3;
 use nffkit_formats::mesh::{load_with, ImportOptions, Mesh};
 use nffkit_formats::nff::{self, ParseOptions};

@@ -8,8 +8,7 @@ use nffkit_tracer::math::{Ray, RayQuery};
 use nffkit_tracer::stats::Counters;
 use proptest::prelude::*;
 
-mod common;
-use common::random_scene;
+use crate::common::random_scene;
 
 fn query(o: [f32; 3], d: [f32; 3]) -> Option<RayQuery> {
     let d = Vec3A::from(d);

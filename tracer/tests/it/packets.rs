@@ -19,8 +19,7 @@ use nffkit_tracer::simd::Isa;
 use nffkit_tracer::stats::Counters;
 use proptest::prelude::*;
 
-mod common;
-use common::random_scene;
+use crate::common::random_scene;
 
 /// Up to sixteen rays: around a common origin and direction (coherent),
 /// or anywhere; some leaving the surface a first ray hit. Lanes not in

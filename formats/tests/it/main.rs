@@ -1,0 +1,9 @@
+//! The formats crate's integration tests, one module per subject, linked
+//! into one test executable (as ripgrep does): a test binary per file
+//! would link the crate and its dependencies once each.
+
+mod course_and_recovery;
+mod malformed;
+mod parallel_parse;
+mod properties;
+mod spd_fixtures;

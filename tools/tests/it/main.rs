@@ -1,0 +1,13 @@
+//! The tools' integration tests, mostly end to end through the binaries a
+//! user runs, one module per subject, linked into one test executable (as
+//! ripgrep does): a test binary per file would link the crate and its
+//! dependencies once each.
+
+mod aademo;
+mod bench;
+mod cli;
+mod common;
+mod farm;
+mod generators;
+mod mesh2nff;
+mod mesh_looks;

@@ -1,0 +1,10 @@
+//! The tracer's integration tests, one module per subject, linked into one
+//! test executable (as ripgrep does): a test binary per file would link the
+//! crate and its dependencies once each.
+
+mod accel_agreement;
+mod common;
+mod determinism;
+mod fidelity;
+mod packets;
+mod shading;
