@@ -21,8 +21,8 @@ use glam::DVec3;
 use nffkit_formats::mesh::{Corner, Face, Mesh, MeshCamera};
 use nffkit_formats::nff::NffWriter;
 use nffkit_formats::polygon::newell_normal;
+use nffkit_formats::polygon::triangulate;
 use nffkit_formats::{plural, Light, Material, View};
-use nffkit_tracer::triangulate::triangulate;
 use std::io::Write;
 
 /// Levels per colour channel for per-face colours: finer than 8-bit output

@@ -4,13 +4,11 @@
 //! the full image's display window, in linear 32-bit float, with metadata:
 //! the digest of the parsed scene (SHA-256 of the scene as the writer prints
 //! it, so reformatting or re-commenting the file does not matter), every
-//! setting that changes pixels, and the part's ray counters. Because each
-//! pixel is a pure function of its coordinates and the settings, the merged
-//! image is the same, byte for byte, as one full render.
-//!
-//! Settings that cannot change pixels stay out of the signature: the thread
-//! count, and the accelerator (all of them return the same hit, ties broken
-//! by primitive id).
+//! setting that changes pixels ([`pixel_settings`]), and the part's ray
+//! counters. Because each pixel is a pure function of its coordinates and
+//! the settings, the merged image is the same, byte for byte, as one full
+//! render; merge refuses parts that differ in any of those settings and
+//! names it.
 
 use anyhow::{bail, Context, Result};
 use exr::prelude::{
@@ -20,7 +18,8 @@ use nffkit_formats::image_io::{self, RgbImage};
 use nffkit_formats::{nff, Scene};
 use nffkit_tracer::camera::Camera;
 use nffkit_tracer::prepare::PrepareOptions;
-use nffkit_tracer::render::{PixelWindow, RenderSettings};
+use nffkit_tracer::render::{PixelWindow, RenderSettings, ShadeSettings};
+use nffkit_tracer::sampling::Sampler;
 use nffkit_tracer::stats::Counters;
 use sha2::{Digest, Sha256};
 use std::fmt::Write as _;
@@ -39,26 +38,83 @@ pub fn scene_digest(scene: &Scene) -> String {
     })
 }
 
-/// Every setting that changes pixels, as one canonical line.
-pub fn settings_signature(settings: &RenderSettings, prepare: &PrepareOptions, camera: &Camera) -> String {
+/// Every setting that changes pixels, by name (the `render` flag that sets
+/// it), with its value, in a fixed order.
+///
+/// The settings types are destructured whole, so a new field does not
+/// compile until it is listed here or said not to change pixels. Those
+/// that do not: how the work is done (thread count, packets, shadow cache,
+/// the accelerator: all of them find the same hit, ties broken by
+/// primitive id, so none changes a pixel), what else is recorded (the cost
+/// image) and which part is rendered (the window).
+pub fn pixel_settings(
+    settings: &RenderSettings,
+    prepare: &PrepareOptions,
+    camera: &Camera,
+) -> Vec<(&'static str, String)> {
+    let RenderSettings {
+        sampler,
+        centre_single_sample: _, // in `pixel-centre`, with the sample count and the lens
+        filter,
+        shade,
+        cost: _,
+        shadow_cache: _,
+        packets: _,
+        row_stride,
+        window: _,
+    } = settings;
+    let ShadeSettings { max_depth, light_size, light_shape, min_weight, spd } = shade;
+    // (The sampler's grid side follows from its count.)
+    let Sampler { kind, spp, seed, .. } = sampler;
+    let PrepareOptions {
+        width: _, // in `size`, with the file's resolution
+        height: _,
+        one_sided,
+        aperture,
+        focus,
+        accel: _,
+        ambient,
+    } = prepare;
     let (w, h) = camera.resolution();
-    let s = settings;
-    format!(
-        "size={w}x{h} depth={} spp={} sampler={} seed={} centre={} filter={} light-size={} light-shape={} \
-         min-weight={} aperture={} focus={} one-sided={}",
-        s.max_depth,
-        s.sampler.spp,
-        s.sampler.kind,
-        s.sampler.seed,
-        s.pixel_centre_only(camera),
-        s.filter,
-        s.light_size,
-        s.light_shape,
-        s.min_weight,
-        prepare.aperture,
-        prepare.focus.map_or("from-at".to_string(), |f| f.to_string()),
-        prepare.one_sided,
-    )
+    vec![
+        ("size", format!("{w}x{h}")),
+        ("depth", max_depth.to_string()),
+        ("spp", spp.to_string()),
+        ("sampler", kind.to_string()),
+        ("seed", seed.to_string()),
+        ("pixel-centre", settings.pixel_centre_only(camera).to_string()),
+        ("filter", filter.to_string()),
+        ("light-size", light_size.to_string()),
+        ("light-shape", light_shape.to_string()),
+        ("min-weight", min_weight.to_string()),
+        ("spd-stats", spd.to_string()),
+        ("row-stride", row_stride.to_string()),
+        ("aperture", aperture.to_string()),
+        ("focus", focus.map_or("from-at".to_string(), |f| f.to_string())),
+        ("one-sided", one_sided.to_string()),
+        ("ambient", ambient.to_string()),
+    ]
+}
+
+/// [`pixel_settings`] as one line, `name=value` separated by spaces, as a
+/// part stores it.
+pub fn settings_signature(settings: &RenderSettings, prepare: &PrepareOptions, camera: &Camera) -> String {
+    let pairs = pixel_settings(settings, prepare, camera);
+    pairs.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>().join(" ")
+}
+
+/// The first setting in which two signatures differ, with both values
+/// (`None` for a setting one of them lacks, as from another version).
+fn first_difference<'a>(a: &'a str, b: &'a str) -> Option<(&'a str, Option<&'a str>, Option<&'a str>)> {
+    let pairs = |s: &'a str| -> Vec<(&'a str, &'a str)> {
+        s.split_whitespace().map(|f| f.split_once('=').unwrap_or((f, ""))).collect()
+    };
+    let (pa, pb) = (pairs(a), pairs(b));
+    let value = |p: &[(&'a str, &'a str)], k: &str| p.iter().find(|(n, _)| *n == k).map(|(_, v)| *v);
+    pa.iter().chain(&pb).map(|(k, _)| *k).find_map(|k| {
+        let (va, vb) = (value(&pa, k), value(&pb, k));
+        (va != vb).then_some((k, va, vb))
+    })
 }
 
 /// What a part file says about itself.
@@ -211,10 +267,18 @@ pub fn merge(parts: &[Part]) -> Result<Merged> {
             );
         }
         if p.settings != first.settings {
+            let Some((name, va, vb)) = first_difference(&first.settings, &p.settings) else {
+                bail!(
+                    "{b} was rendered with other settings than {a}:\n  {a}: {}\n  {b}: {}",
+                    first.settings,
+                    p.settings
+                );
+            };
+            let shown = |v: Option<&str>| v.map_or("(not recorded)".to_string(), |v| format!("{name}={v}"));
             bail!(
-                "{b} was rendered with other settings than {a}:\n  {a}: {}\n  {b}: {}",
-                first.settings,
-                p.settings
+                "{b} was rendered with other settings than {a}: {name} differs ({a}: {}, {b}: {}); render every part with the same settings",
+                shown(va),
+                shown(vb)
             );
         }
         if p.full != first.full {

@@ -14,9 +14,9 @@ use nffkit_formats::image_io::ImageKind;
 use nffkit_formats::nff::ParseOptions;
 use nffkit_tracer::accel::{AccelKind, AccelOptions};
 use nffkit_tracer::filter::FilterKind;
-use nffkit_tracer::integrator::LightShape;
+use nffkit_tracer::light::LightShape;
 use nffkit_tracer::prepare::{Ambient, PrepareOptions};
-use nffkit_tracer::render::{PixelWindow, RenderSettings};
+use nffkit_tracer::render::{PixelWindow, RenderSettings, ShadeSettings};
 use nffkit_tracer::sampling::{Sampler, SamplerKind};
 use std::path::PathBuf;
 
@@ -300,11 +300,13 @@ impl RenderArgs {
             sampler,
             centre_single_sample: self.sampler.is_none(),
             filter: self.filter,
-            max_depth: if self.spd_stats { 5 } else { self.depth },
-            light_size: self.light_size,
-            light_shape: self.light_shape,
-            min_weight: if self.spd_stats { 0.0 } else { self.min_weight },
-            spd_corners: self.spd_stats,
+            shade: ShadeSettings {
+                max_depth: if self.spd_stats { 5 } else { self.depth },
+                light_size: self.light_size,
+                light_shape: self.light_shape,
+                min_weight: if self.spd_stats { 0.0 } else { self.min_weight },
+                spd: self.spd_stats,
+            },
             cost: self.aov_cost.is_some(),
             shadow_cache: !self.no_shadow_cache,
             packets: !self.no_packets,
@@ -478,13 +480,13 @@ mod tests {
         assert_eq!(<FilterKind as ValueEnum>::value_variants().len(), FilterKind::ALL.len());
         let c = config(&["--accel", "grid", "--light-shape", "disk", "--filter", "mitchell"]).unwrap();
         assert_eq!(c.prepare.accel.kind, AccelKind::Grid);
-        assert_eq!(c.settings.light_shape, LightShape::Disk);
+        assert_eq!(c.settings.shade.light_shape, LightShape::Disk);
         assert_eq!(c.settings.filter, FilterKind::Mitchell);
     }
 
     #[test]
     fn spd_stats_fixes_depth_and_weight() {
         let c = config(&["--spd-stats", "--depth", "9", "--min-weight", "0.1"]).unwrap();
-        assert_eq!((c.settings.max_depth, c.settings.min_weight, c.stats), (5, 0.0, true));
+        assert_eq!((c.settings.shade.max_depth, c.settings.shade.min_weight, c.stats), (5, 0.0, true));
     }
 }

@@ -119,7 +119,7 @@ fn render_command(cfg: &RenderConfig) -> Result<()> {
     if cfg.stats {
         let times = report::Times { parse: t_parse, total: t_start.elapsed().as_secs_f64() };
         print!("{}", report::statistics(&name, &scene, &prepared, &settings, &out, times));
-        if let Some(published) = spd_published::recognise(&scene).filter(|_| settings.spd_corners) {
+        if let Some(published) = spd_published::recognise(&scene).filter(|_| settings.shade.spd) {
             print!("{}", spd_published::comparison(published, &out.counters, full.0, full.1));
         }
     }

@@ -2,7 +2,7 @@
 //! how it was sampled, what the accelerator cost, and the rays and tests of
 //! the render, per kind by name.
 
-use nffkit_formats::Scene;
+use nffkit_formats::{plural, Scene};
 use nffkit_tracer::prepare::RenderScene;
 use nffkit_tracer::render::{RenderOutput, RenderSettings};
 use nffkit_tracer::stats::Counters;
@@ -34,26 +34,24 @@ pub fn statistics(
     out: &RenderOutput,
     times: Times,
 ) -> String {
-    let g = &prepared.geometry;
+    let counts = prepared.primitive_counts();
     let c = &out.counters;
-    let info = prepared.accel.info();
+    let info = prepared.accel_info();
     let (w, h) = prepared.camera.resolution();
     let rays = c.rays();
     let mut s = String::new();
-    let planes = if g.planes.is_empty() { String::new() } else { format!(", {} planes", g.planes.len()) };
-    let _ = writeln!(
-        s,
-        "scene        {name}: {} primitives in the file -> {} spheres, {} triangles, {} cones{planes}",
-        scene.primitives.len(),
-        g.spheres.len(),
-        g.triangles.len(),
-        g.cones.len()
-    );
+    let made: Vec<String> = counts
+        .iter()
+        .filter(|&(_, n)| n > 0)
+        .map(|(k, n)| format!("{n} {}{}", <&str>::from(k), plural(n as usize)))
+        .collect();
+    let made = if made.is_empty() { "nothing to render".to_string() } else { made.join(", ") };
+    let _ = writeln!(s, "scene        {name}: {} primitives in the file -> {made}", scene.primitives.len());
     let _ = writeln!(
         s,
         "image        {w}x{h}, {}, depth {}",
         settings.describe_sampling(&prepared.camera),
-        settings.max_depth
+        settings.shade.max_depth
     );
     let _ = writeln!(
         s,
@@ -61,7 +59,7 @@ pub fn statistics(
         if settings.packets && !settings.cost {
             format!(
                 "eye and shadow rays in packets of {}, kernels for {}",
-                nffkit_tracer::packet::LANES,
+                nffkit_tracer::simd::LANES,
                 nffkit_tracer::simd::isa()
             )
         } else {

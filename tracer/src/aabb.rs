@@ -38,21 +38,10 @@ impl Aabb {
         Aabb { min: self.min.min(p), max: self.max.max(p) }
     }
 
-    /// Centre point.
-    #[inline]
-    pub fn center(&self) -> Vec3A {
-        (self.min + self.max) * 0.5
-    }
-
     /// Edge lengths (zero or negative for empty boxes).
     #[inline]
     pub fn size(&self) -> Vec3A {
         self.max - self.min
-    }
-
-    /// True when the box holds no point.
-    pub fn is_empty(&self) -> bool {
-        self.min.cmpgt(self.max).any()
     }
 
     /// Half the surface area (the SAH only compares areas); 0 when empty.
@@ -118,7 +107,7 @@ mod tests {
 
     #[test]
     fn empty_box() {
-        assert!(Aabb::EMPTY.is_empty());
+        assert!(Aabb::EMPTY.size().cmplt(Vec3A::ZERO).all(), "holds no point");
         assert_eq!(Aabb::EMPTY.union(unit()), unit());
         assert_eq!(Aabb::EMPTY.half_area(), 0.0);
     }

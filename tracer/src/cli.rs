@@ -23,6 +23,6 @@ macro_rules! value_enum {
 value_enum!(
     crate::sampling::SamplerKind,
     crate::filter::FilterKind,
-    crate::integrator::LightShape,
+    crate::light::LightShape,
     crate::accel::AccelKind,
 );

@@ -15,7 +15,7 @@ use strum::{EnumCount, IntoStaticStr, VariantArray};
 
 /// Which side of a surface may be hit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Cull {
+pub(crate) enum Cull {
     /// Both sides (two-sided shading, transmissive objects).
     None,
     /// Only the front (outside of a sphere or cone, counter-clockwise side of
@@ -27,7 +27,7 @@ pub enum Cull {
 
 /// A sphere.
 #[derive(Debug, Clone, Copy)]
-pub struct Sphere {
+pub(crate) struct Sphere {
     /// Centre.
     pub center: Vec3A,
     /// Radius (positive).
@@ -36,14 +36,14 @@ pub struct Sphere {
 
 /// A triangle (polygons and patches are triangulated at load).
 #[derive(Debug, Clone, Copy)]
-pub struct Triangle {
+pub(crate) struct Triangle {
     /// Vertices, counter-clockwise seen from the front.
     pub v: [Vec3A; 3],
 }
 
 /// An open cone or cylinder.
 #[derive(Debug, Clone, Copy)]
-pub struct Cone {
+pub(crate) struct Cone {
     /// Centre of the base disc.
     pub base: Vec3A,
     /// Unit axis from base to apex.
@@ -59,16 +59,17 @@ pub struct Cone {
 /// An infinite plane (the course files' `pl`): the points `p` with
 /// `n · p = n · point`.
 #[derive(Debug, Clone, Copy)]
-pub struct Plane {
+pub(crate) struct Plane {
     /// A point on the plane.
     pub point: Vec3A,
     /// Unit normal; its side is the front.
     pub n: Vec3A,
 }
 
-/// The kinds of primitive, for statistics. Counters are arrays of
-/// `Kind::COUNT` indexed by kind (see [`crate::stats::PerKind`]), so a new
-/// kind is counted and printed without touching the statistics code.
+/// The kinds of primitive, in the order of the id space. Counters are
+/// arrays of `Kind::COUNT` indexed by kind (see [`crate::stats::PerKind`]),
+/// so a new kind is counted and printed without touching the statistics
+/// code. Unbounded kinds come last (see [`Geometry::bounded_len`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, EnumCount, VariantArray, IntoStaticStr)]
 #[strum(serialize_all = "kebab-case")]
 pub enum Kind {
@@ -82,9 +83,14 @@ pub enum Kind {
     Plane,
 }
 
+/// The first kind without bounds: it and the kinds after it stay out of
+/// every accelerator.
+const FIRST_UNBOUNDED: Kind = Kind::Plane;
+const _: () = assert!(FIRST_UNBOUNDED as usize == Kind::COUNT - 1, "unbounded kinds come last");
+
 /// Per-primitive data the hit tests do not need: material, culling, normals.
 #[derive(Debug, Clone, Copy)]
-pub struct PrimInfo {
+pub(crate) struct PrimInfo {
     /// Index into the scene's materials.
     pub material: u32,
     /// Which side may be hit.
@@ -95,7 +101,7 @@ pub struct PrimInfo {
 
 /// A hit: enough to find the surface later, nothing more.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Hit {
+pub(crate) struct Hit {
     /// Distance along the ray.
     pub t: f32,
     /// Primitive id.
@@ -120,7 +126,7 @@ impl Hit {
 
 /// The geometric record of a hit, built once per shaded point.
 #[derive(Debug, Clone, Copy)]
-pub struct Surface {
+pub(crate) struct Surface {
     /// The point.
     pub p: Vec3A,
     /// Geometric normal, as the primitive defines its front.
@@ -129,9 +135,10 @@ pub struct Surface {
     pub ns: Vec3A,
 }
 
-/// All primitives of a scene.
+/// All primitives of a scene. Built by filling the arrays (and `info` in
+/// id order), then [`Geometry::assign_ids`].
 #[derive(Debug, Default, Clone)]
-pub struct Geometry {
+pub(crate) struct Geometry {
     /// Spheres: ids `0..spheres.len()`.
     pub spheres: Vec<Sphere>,
     /// Triangles: the next ids.
@@ -147,25 +154,41 @@ pub struct Geometry {
     /// Whether any primitive culls a side; when none does (the default,
     /// two-sided shading) the hit tests skip looking the rule up.
     pub any_cull: bool,
+    /// The first id of each kind, in [`Kind`] order, then the count of all.
+    start: [u32; Kind::COUNT + 1],
 }
 
 impl Geometry {
+    /// How many primitives of kind `k` there are.
+    pub fn count(&self, k: Kind) -> usize {
+        match k {
+            Kind::Sphere => self.spheres.len(),
+            Kind::Triangle => self.triangles.len(),
+            Kind::Cone => self.cones.len(),
+            Kind::Plane => self.planes.len(),
+        }
+    }
+
+    /// Number the primitives: each kind's ids follow the previous kind's,
+    /// in [`Kind`] order. Called once the arrays are filled.
+    pub fn assign_ids(&mut self) {
+        for (k, &kind) in Kind::VARIANTS.iter().enumerate() {
+            self.start[k + 1] = self.start[k] + self.count(kind) as u32;
+        }
+        debug_assert_eq!(self.start[Kind::COUNT] as usize, self.info.len());
+    }
+
     /// Number of primitives.
     #[inline]
     pub fn len(&self) -> usize {
         self.info.len()
     }
 
-    /// True when there are no primitives.
-    pub fn is_empty(&self) -> bool {
-        self.info.is_empty()
-    }
-
     /// Number of bounded primitives (all but the planes): the ids
     /// `0..bounded_len()` are what accelerators are built over.
     #[inline]
     pub fn bounded_len(&self) -> usize {
-        self.info.len() - self.planes.len()
+        self.start[FIRST_UNBOUNDED as usize] as usize
     }
 
     /// The ids of the infinite planes.
@@ -177,19 +200,21 @@ impl Geometry {
     /// The kind of primitive `id`, and its index in that kind's array.
     #[inline]
     pub fn locate(&self, id: u32) -> (Kind, usize) {
-        let id = id as usize;
-        let ns = self.spheres.len();
-        let nt = ns + self.triangles.len();
-        let nc = nt + self.cones.len();
-        if id < ns {
-            (Kind::Sphere, id)
-        } else if id < nt {
-            (Kind::Triangle, id - ns)
-        } else if id < nc {
-            (Kind::Cone, id - nt)
+        // One comparison per boundary of the id space, spheres (the
+        // commonest) first: a plain chain, which the primitive tests that
+        // match on its kind fold into one dispatch.
+        const _: () = assert!(Kind::COUNT == 4, "a new kind needs its boundary here");
+        let s = &self.start;
+        let kind = if id < s[1] {
+            Kind::Sphere
+        } else if id < s[2] {
+            Kind::Triangle
+        } else if id < s[3] {
+            Kind::Cone
         } else {
-            (Kind::Plane, id - nc)
-        }
+            Kind::Plane
+        };
+        (kind, (id - s[kind as usize]) as usize)
     }
 
     /// Bounds of primitive `id`; infinite for a plane (accelerators never
@@ -287,7 +312,7 @@ impl Geometry {
 /// 2019): the discriminant from the perpendicular distance, the near root
 /// from the stable quadratic formula.
 #[inline]
-pub fn intersect_sphere(s: &Sphere, q: &RayQuery, t_max: f32, cull: Cull) -> Option<f32> {
+pub(crate) fn intersect_sphere(s: &Sphere, q: &RayQuery, t_max: f32, cull: Cull) -> Option<f32> {
     let f = q.ray.o - s.center;
     let b = -f.dot(q.ray.d);
     let l = f + b * q.ray.d;
@@ -321,7 +346,7 @@ pub fn intersect_sphere(s: &Sphere, q: &RayQuery, t_max: f32, cull: Cull) -> Opt
 
 /// Ray against an infinite plane: `t = n · (point − o) / n · d`.
 #[inline]
-pub fn intersect_plane(pl: &Plane, q: &RayQuery, t_max: f32, cull: Cull) -> Option<f32> {
+pub(crate) fn intersect_plane(pl: &Plane, q: &RayQuery, t_max: f32, cull: Cull) -> Option<f32> {
     let denom = pl.n.dot(q.ray.d);
     // denom < 0: the ray meets the front side.
     let culled = match cull {
@@ -341,7 +366,12 @@ pub fn intersect_plane(pl: &Plane, q: &RayQuery, t_max: f32, cull: Cull) -> Opti
 /// a shared edge hit exactly one of the two triangles and never leak.
 /// Returns `(t, u, v)` with `u`, `v` the barycentrics of vertices 1 and 2.
 #[inline]
-pub fn intersect_triangle(tri: &Triangle, q: &RayQuery, t_max: f32, cull: Cull) -> Option<(f32, f32, f32)> {
+pub(crate) fn intersect_triangle(
+    tri: &Triangle,
+    q: &RayQuery,
+    t_max: f32,
+    cull: Cull,
+) -> Option<(f32, f32, f32)> {
     let [kx, ky, kz] = q.k;
     let s = q.shear;
     let a = tri.v[0] - q.ray.o;
@@ -389,7 +419,7 @@ pub fn intersect_triangle(tri: &Triangle, q: &RayQuery, t_max: f32, cull: Cull) 
 /// leaving the surface itself (shadow rays would see speckles of self
 /// shadowing), and cones are few, so the cost does not matter.
 #[inline]
-pub fn intersect_cone(c: &Cone, q: &RayQuery, t_max: f32, cull: Cull) -> Option<f32> {
+pub(crate) fn intersect_cone(c: &Cone, q: &RayQuery, t_max: f32, cull: Cull) -> Option<f32> {
     let d64 = |v: Vec3A| glam::DVec3::new(v.x as f64, v.y as f64, v.z as f64);
     let axis = d64(c.axis);
     let (o, d) = (d64(q.ray.o) - d64(c.base), d64(q.ray.d));
@@ -572,11 +602,12 @@ mod tests {
         let c = Cone { base: Vec3A::ZERO, axis: Vec3A::X, height: 2.0, r0: 1.0, slope: -0.25 };
         let t = intersect_cone(&c, &q([1.0, -5.0, 0.0], [0.0, 1.0, 0.0]), 100.0, Cull::None).unwrap();
         assert!((t - 4.25).abs() < 1e-5, "{t}");
-        let g = Geometry {
+        let mut g = Geometry {
             cones: vec![c],
             info: vec![PrimInfo { material: 0, cull: Cull::None, patch: None }],
             ..Default::default()
         };
+        g.assign_ids();
         let b = g.bounds(0);
         assert!((b.min.y + 1.0).abs() < 1e-6 && (b.max.x - 2.0).abs() < 1e-6);
         let rq = q([1.0, -5.0, 0.0], [0.0, 1.0, 0.0]);
@@ -584,34 +615,5 @@ mod tests {
         let n = g.surface(&hit, &rq).ng;
         // Normal tilts towards +x because the cone narrows along +x.
         assert!(n.y < -0.9 && n.x > 0.1, "{n}");
-    }
-}
-
-/// Scenes for the crate's unit tests.
-#[cfg(test)]
-pub(crate) mod testing {
-    use super::{Cull, Geometry, PrimInfo, Sphere};
-    use glam::Vec3A;
-
-    /// A fixed xorshift stream of floats in [0, 1).
-    pub fn uniform(seed: u64) -> impl FnMut() -> f32 {
-        let mut s = seed;
-        move || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 40) as f32 / (1u64 << 24) as f32
-        }
-    }
-
-    /// `n` two-sided spheres, sphere `i` at `place(i)` = (centre, radius).
-    pub fn spheres(n: usize, mut place: impl FnMut(usize) -> (Vec3A, f32)) -> Geometry {
-        let mut g = Geometry::default();
-        for i in 0..n {
-            let (center, radius) = place(i);
-            g.spheres.push(Sphere { center, radius });
-            g.info.push(PrimInfo { material: 0, cull: Cull::None, patch: None });
-        }
-        g
     }
 }

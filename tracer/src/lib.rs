@@ -5,35 +5,43 @@
 //! materials, flat primitive arrays and an accelerator), which
 //! [`render::render`] turns into a [`film::Film`].
 //!
+//! The public modules are what a user of the library chooses and reads:
+//! settings, the prepared scene, the image and the counters. The core
+//! (primitives, accelerators, packets and their kernels, shading) is
+//! private, so its invariants (a lane computes the bits its ray computes
+//! alone, vectors exist only where their instructions do) hold by
+//! construction; the benchmarks reach it through [`bench`].
+//!
 //! The hot loop (traversal and primitive tests) works on plain arrays indexed
 //! by `u32`; there is no trait object per primitive and no allocation per ray.
 #![deny(missing_docs)]
-// Unsafe code is refused except where `simd::dispatch!` calls kernels
-// compiled for an instruction set the processor was checked to have.
+// Unsafe code is refused except in `simd`, where vectors are made under a
+// proof that the processor has their instructions.
 #![deny(unsafe_code)]
 
-pub mod aabb;
 pub mod accel;
-pub mod bounce_lanes;
+#[doc(hidden)]
+pub mod bench;
 pub mod camera;
-#[cfg(feature = "clap")]
-mod cli;
 pub mod film;
 pub mod filter;
-pub mod geometry;
-pub mod integrator;
 pub mod light;
-pub mod material;
-pub mod math;
-pub mod packet;
 pub mod prepare;
 pub mod render;
 pub mod sampling;
-pub mod shadow_cache;
-pub mod shadow_lanes;
 pub mod simd;
 pub mod stats;
-pub mod surface_lanes;
-pub mod triangulate;
+
+mod aabb;
+#[cfg(feature = "clap")]
+mod cli;
+mod geometry;
+mod integrator;
+mod material;
+mod math;
+mod packet;
+mod shadow_cache;
+#[cfg(test)]
+mod testing;
 
 pub use glam::Vec3A;

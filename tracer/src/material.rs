@@ -20,3 +20,36 @@ pub struct WhittedMaterial {
     /// Index of refraction.
     pub ior: f32,
 }
+
+impl From<&nffkit_formats::Material> for WhittedMaterial {
+    fn from(m: &nffkit_formats::Material) -> WhittedMaterial {
+        let c = m.color;
+        WhittedMaterial {
+            color: Vec3A::new(c.x as f32, c.y as f32, c.z as f32),
+            kd: m.kd as f32,
+            ks: m.ks as f32,
+            shine: m.shine as f32,
+            t: m.t as f32,
+            ior: m.ior as f32,
+        }
+    }
+}
+
+impl WhittedMaterial {
+    /// Whether a hit on it may spawn rays: it reflects or transmits.
+    #[inline]
+    pub(crate) fn spawns_rays(&self) -> bool {
+        self.ks > 0.0 || self.t > 0.0
+    }
+
+    /// The ratio of indices of refraction across its surface, incident over
+    /// transmitted, for a ray `entering` it or leaving.
+    #[inline]
+    pub(crate) fn eta(&self, entering: bool) -> f32 {
+        if entering {
+            1.0 / self.ior
+        } else {
+            self.ior
+        }
+    }
+}

@@ -1,18 +1,20 @@
 //! From the file's [`Scene`] to what the renderer needs: camera, lights,
 //! materials and flat primitive arrays, plus the accelerator over them.
 
-use crate::accel::{Accel, AccelOptions};
+use crate::accel::{Accel, AccelInfo, AccelOptions};
 use crate::camera::Camera;
-use crate::geometry::{Cone, Cull, Geometry, Plane, PrimInfo, Sphere, Triangle};
+use crate::geometry::{Cone, Cull, Geometry, Kind, Plane, PrimInfo, Sphere, Triangle};
 use crate::light::PointLight;
 use crate::material::WhittedMaterial;
-use crate::triangulate::triangulate;
+use crate::stats::PerKind;
 use glam::{DVec3, Vec3A};
+use nffkit_formats::polygon::triangulate;
 use nffkit_formats::{Scene, Shape};
+use strum::EnumCount;
 use thiserror::Error;
 
 /// How to turn the file into a renderable scene.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct PrepareOptions {
     /// Image width overriding the file's (the field of view is kept).
     pub width: Option<u32>,
@@ -48,6 +50,16 @@ impl Default for Ambient {
     }
 }
 
+impl std::fmt::Display for Ambient {
+    /// As `render --ambient` takes it: the number, or `spd`.
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        match self {
+            Ambient::Value(v) => write!(f, "{v}"),
+            Ambient::Spd => f.write_str("spd"),
+        }
+    }
+}
+
 /// Why a scene cannot be rendered.
 #[derive(Debug, Error)]
 pub enum PrepareError {
@@ -73,9 +85,26 @@ pub struct RenderScene {
     /// Ambient intensity (0: none).
     pub ambient: f32,
     /// The primitives.
-    pub geometry: Geometry,
+    pub(crate) geometry: Geometry,
     /// The accelerator over them.
-    pub accel: Accel,
+    pub(crate) accel: Accel,
+}
+
+impl RenderScene {
+    /// How many primitives of each kind the renderer made of the file's
+    /// (polygons become triangles).
+    pub fn primitive_counts(&self) -> PerKind {
+        let mut n = PerKind::default();
+        for &k in <Kind as strum::VariantArray>::VARIANTS {
+            n[k] = self.geometry.count(k) as u64;
+        }
+        n
+    }
+
+    /// The accelerator's size and build time.
+    pub fn accel_info(&self) -> AccelInfo {
+        self.accel.info()
+    }
 }
 
 fn v3(v: DVec3) -> Vec3A {
@@ -94,17 +123,9 @@ pub fn prepare(scene: &Scene, opts: &PrepareOptions) -> Result<RenderScene, Prep
     }
     let camera = Camera::new(view, w, h).with_lens(opts.aperture, opts.focus);
     let (lights, ambient) = point_lights(&scene.lights, opts.ambient);
-    let materials = std::iter::once(nffkit_formats::Material::default())
-        .chain(scene.materials.iter().cloned())
-        .map(|m| WhittedMaterial {
-            color: v3(m.color),
-            kd: m.kd as f32,
-            ks: m.ks as f32,
-            shine: m.shine as f32,
-            t: m.t as f32,
-            ior: m.ior as f32,
-        })
-        .collect::<Vec<_>>();
+    let default = nffkit_formats::Material::default();
+    let materials =
+        std::iter::once(&default).chain(&scene.materials).map(WhittedMaterial::from).collect::<Vec<_>>();
     let geometry = build_geometry(scene, &materials, opts.one_sided);
     let accel = Accel::build(&geometry, &opts.accel);
     Ok(RenderScene {
@@ -142,14 +163,12 @@ pub fn point_lights(lights: &[nffkit_formats::Light], ambient: Ambient) -> (Vec<
 const BOX_FACES: [[usize; 4]; 6] =
     [[0, 4, 6, 2], [1, 3, 7, 5], [0, 1, 5, 4], [2, 6, 7, 3], [0, 2, 3, 1], [4, 5, 7, 6]];
 
-/// Flatten the file's primitives into typed arrays (spheres, then
-/// triangles, cones and planes, the order of the id space). Boxes become
-/// twelve triangles.
-pub fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_sided: bool) -> Geometry {
+/// Flatten the file's primitives into typed arrays, numbered in [`Kind`]
+/// order. Boxes become twelve triangles.
+pub(crate) fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_sided: bool) -> Geometry {
     let mut g = Geometry::default();
-    // Sized up front: grown push by push, the 600,000 spheres of a level-6
-    // sphereflake were copied as they went (its geometry took 10.7-11.3 ms
-    // that way, 8.6-9.2 ms sized, side by side).
+    // Sized up front, so that a large scene's arrays are not copied as they
+    // grow.
     let (spheres, triangles) = scene.primitives.iter().fold((0, 0), |(s, t), p| match &p.shape {
         Shape::Sphere { .. } => (s + 1, t),
         Shape::Polygon { vertices } | Shape::Patch { vertices, .. } => {
@@ -160,10 +179,10 @@ pub fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_sided: b
     });
     g.spheres.reserve_exact(spheres);
     g.triangles.reserve(triangles);
-    let mut sphere_info = Vec::with_capacity(spheres);
-    let mut tri_info = Vec::with_capacity(triangles);
-    let mut cone_info = Vec::new();
-    let mut plane_info = Vec::new();
+    // Per-primitive data per kind, joined in id order at the end.
+    let mut info: [Vec<PrimInfo>; Kind::COUNT] = Default::default();
+    info[Kind::Sphere as usize].reserve_exact(spheres);
+    info[Kind::Triangle as usize].reserve(triangles);
     for prim in &scene.primitives {
         let material = prim.material.map_or(0, |m| m + 1);
         let transmissive = materials[material as usize].t > 0.0;
@@ -176,14 +195,14 @@ pub fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_sided: b
                 Cull::None
             }
         };
-        let info = |cull, patch| PrimInfo { material, cull, patch };
+        let record = |cull, patch| PrimInfo { material, cull, patch };
         match &prim.shape {
             Shape::Sphere { center, radius } => {
                 if *radius == 0.0 {
                     continue;
                 }
                 g.spheres.push(Sphere { center: v3(*center), radius: radius.abs() as f32 });
-                sphere_info.push(info(cull(*radius < 0.0), None));
+                info[Kind::Sphere as usize].push(record(cull(*radius < 0.0), None));
             }
             Shape::Cone { base, base_radius, apex, apex_radius } => {
                 let (b, a) = (v3(*base), v3(*apex));
@@ -193,19 +212,20 @@ pub fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_sided: b
                 }
                 let (r0, r1) = (base_radius.abs() as f32, apex_radius.abs() as f32);
                 g.cones.push(Cone { base: b, axis: (a - b) / height, height, r0, slope: (r1 - r0) / height });
-                cone_info.push(info(cull(*base_radius < 0.0 || *apex_radius < 0.0), None));
+                info[Kind::Cone as usize].push(record(cull(*base_radius < 0.0 || *apex_radius < 0.0), None));
             }
             Shape::Polygon { vertices } => {
                 for t in triangulate(vertices) {
                     g.triangles.push(Triangle { v: t.map(|i| v3(vertices[i as usize])) });
-                    tri_info.push(info(cull(false), None));
+                    info[Kind::Triangle as usize].push(record(cull(false), None));
                 }
             }
             Shape::Patch { vertices, normals } => {
                 for t in triangulate(vertices) {
                     g.triangles.push(Triangle { v: t.map(|i| v3(vertices[i as usize])) });
                     let n = t.map(|i| v3(normals[i as usize]).normalize_or_zero());
-                    tri_info.push(info(cull(false), Some(g.patch_normals.len() as u32)));
+                    info[Kind::Triangle as usize]
+                        .push(record(cull(false), Some(g.patch_normals.len() as u32)));
                     g.patch_normals.push(n);
                 }
             }
@@ -217,7 +237,7 @@ pub fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_sided: b
                     continue;
                 }
                 g.planes.push(Plane { point: v3(a), n: v3(n) });
-                plane_info.push(info(cull(false), None));
+                info[Kind::Plane as usize].push(record(cull(false), None));
             }
             Shape::Box { min, max } => {
                 let corner = |i: usize| {
@@ -227,13 +247,17 @@ pub fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_sided: b
                 for [a, b, c, d] in BOX_FACES {
                     for t in [[a, b, c], [a, c, d]] {
                         g.triangles.push(Triangle { v: t.map(corner) });
-                        tri_info.push(info(cull(false), None));
+                        info[Kind::Triangle as usize].push(record(cull(false), None));
                     }
                 }
             }
         }
     }
-    g.info = sphere_info.into_iter().chain(tri_info).chain(cone_info).chain(plane_info).collect();
+    g.info = Vec::with_capacity(info.iter().map(Vec::len).sum());
+    for kind in info {
+        g.info.extend(kind);
+    }
     g.any_cull = g.info.iter().any(|i| i.cull != Cull::None);
+    g.assign_ids();
     g
 }

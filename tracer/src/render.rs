@@ -2,16 +2,17 @@
 //! function of its coordinates, so the image is the same for any thread count
 //! and tile order. Counters are per tile and summed afterwards.
 
-use crate::accel::Intersector;
+use crate::accel::{with_accel, Intersector, Tracer};
 use crate::camera::Camera;
 use crate::film::Film;
 use crate::filter::{Filter, FilterKind};
-use crate::integrator::{LightShape, SampleId, ShadeSettings, ThreadState, Whitted};
+pub use crate::integrator::ShadeSettings;
+use crate::integrator::{SampleId, ThreadState, Whitted};
 use crate::math::Ray;
-use crate::packet::LANES;
 use crate::prepare::RenderScene;
 use crate::sampling::{concentric_disk, Sampler, SamplerKind};
 use crate::shadow_cache::ShadowCache;
+use crate::simd::lanes::LANES;
 use crate::stats::Counters;
 use glam::{Vec2, Vec3A};
 use rayon::prelude::*;
@@ -31,24 +32,17 @@ pub struct RenderSettings {
     pub centre_single_sample: bool,
     /// Reconstruction filter.
     pub filter: FilterKind,
-    /// Recursion limit, the eye ray being depth 1.
-    pub max_depth: u32,
-    /// Area-light size (0: point lights).
-    pub light_size: f32,
-    /// Area-light shape.
-    pub light_shape: LightShape,
-    /// Adaptive depth control threshold (0: off).
-    pub min_weight: f32,
-    /// SPD test procedure: one ray through each pixel corner, averaged, and
-    /// rays spawned by the SPD's rules (see [`crate::integrator`]).
-    pub spd_corners: bool,
+    /// The shader's settings: depth, area lights, the weight below which
+    /// rays are not traced, and the SPD testing procedure (which also
+    /// traces one eye ray through each pixel corner, averaged per pixel).
+    pub shade: ShadeSettings,
     /// Record traversal work per pixel.
     pub cost: bool,
     /// Test each light's last occluder first (see [`crate::shadow_cache`]);
     /// the image is the same either way.
     pub shadow_cache: bool,
     /// Trace coherent eye rays (a pixel's samples, or 4x4 pixel centres)
-    /// and their shadow rays as SIMD packets (see [`crate::packet`]); the
+    /// and their shadow rays as SIMD packets (see `crate::packet`); the
     /// image is the same either way. Work-per-pixel images (`cost`) are
     /// always made ray by ray.
     pub packets: bool,
@@ -97,11 +91,7 @@ impl Default for RenderSettings {
             sampler: Sampler::new(SamplerKind::MultiJittered, 1, 0).0,
             centre_single_sample: true,
             filter: FilterKind::Box,
-            max_depth: 6,
-            light_size: 0.0,
-            light_shape: LightShape::Square,
-            min_weight: 0.0,
-            spd_corners: false,
+            shade: ShadeSettings::default(),
             cost: false,
             shadow_cache: true,
             packets: true,
@@ -121,7 +111,7 @@ impl RenderSettings {
     /// How the eye rays are placed, for reports: "1 ray through each pixel
     /// centre", "16 spp multi-jittered, filter box", or the SPD procedure.
     pub fn describe_sampling(&self, camera: &Camera) -> String {
-        if self.spd_corners {
+        if self.shade.spd {
             "SPD test procedure (pixel corners)".into()
         } else if self.pixel_centre_only(camera) {
             "1 ray through each pixel centre".into()
@@ -149,12 +139,12 @@ pub type Progress<'a> = &'a (dyn Fn(usize, usize) + Sync);
 
 /// Render `scene`.
 pub fn render(scene: &RenderScene, settings: &RenderSettings, progress: Progress) -> RenderOutput {
-    crate::with_accel!(&scene.accel, a => render_with(scene, a, settings, progress))
+    with_accel!(&scene.accel, a => render_with(scene, a, settings, progress))
 }
 
 /// The points a render evaluates: `width` x `height` of them, starting at
 /// (`x0`, `y0`).
-struct Grid2 {
+struct Raster {
     x0: u32,
     y0: u32,
     width: u32,
@@ -169,22 +159,11 @@ fn render_with<I: Intersector>(
 ) -> RenderOutput {
     let t0 = Instant::now();
     let (w, h) = scene.camera.resolution();
-    let shader = Whitted {
-        scene,
-        accel,
-        sampler: &settings.sampler,
-        settings: ShadeSettings {
-            max_depth: settings.max_depth,
-            light_size: settings.light_size,
-            light_shape: settings.light_shape,
-            min_weight: settings.min_weight,
-            spd_rules: settings.spd_corners,
-        },
-    };
+    let shader = Whitted { scene, sampler: &settings.sampler, settings: settings.shade };
     let filter = Filter::new(settings.filter);
-    let out = if settings.spd_corners {
+    let out = if settings.shade.spd {
         // (w+1) x (h+1) corner rays, each pixel the mean of its four corners.
-        let grid = Grid2 { x0: 0, y0: 0, width: w + 1, height: h + 1 };
+        let grid = Raster { x0: 0, y0: 0, width: w + 1, height: h + 1 };
         let (corners, cost, counters) = run_tiles(&grid, accel, scene, settings, progress, |pts, th, out| {
             eye_rays(&shader, settings, pts, th, out, |x, y| scene.camera.ray(x as f32, y as f32, Vec2::ZERO))
         });
@@ -206,7 +185,7 @@ fn render_with<I: Intersector>(
             y0: v.y0.min(h),
             y1: v.y1.clamp(v.y0.min(h), h),
         });
-        let grid = Grid2 { x0: win.x0, y0: win.y0, width: win.width(), height: win.height() };
+        let grid = Raster { x0: win.x0, y0: win.y0, width: win.width(), height: win.height() };
         let stride = settings.row_stride.max(1);
         let centre = settings.pixel_centre_only(&scene.camera);
         let (pixels, cost, counters) = run_tiles(&grid, accel, scene, settings, progress, |pts, th, out| {
@@ -242,14 +221,14 @@ fn render_with<I: Intersector>(
 /// by one. The colours are the same either way.
 #[inline]
 fn trace_eye<I: Intersector>(
-    shader: &Whitted<I>,
+    shader: &Whitted,
     settings: &RenderSettings,
     rays: &[(Ray, f32, f32)],
     ids: &[SampleId],
-    th: &mut ThreadState<I::Scratch>,
+    th: &mut ThreadState<I>,
     out: &mut [Vec3A],
 ) {
-    th.counters.eye += rays.len() as u64;
+    th.tracer.counters.eye += rays.len() as u64;
     if settings.packets && rays.len() > 1 {
         shader.li_packet(rays, 1, ids, th, out);
     } else {
@@ -262,10 +241,10 @@ fn trace_eye<I: Intersector>(
 /// One eye ray per point of `pts` (from `ray_at`), traced together.
 #[inline]
 fn eye_rays<I: Intersector>(
-    shader: &Whitted<I>,
+    shader: &Whitted,
     settings: &RenderSettings,
     pts: &[(u32, u32)],
-    th: &mut ThreadState<I::Scratch>,
+    th: &mut ThreadState<I>,
     out: &mut [Vec3A],
     ray_at: impl Fn(u32, u32) -> (Ray, f32),
 ) {
@@ -284,12 +263,12 @@ fn eye_rays<I: Intersector>(
 /// traced [`LANES`] at a time (as packets when packets are on).
 #[inline]
 fn pixel<I: Intersector>(
-    shader: &Whitted<I>,
+    shader: &Whitted,
     filter: &Filter,
     settings: &RenderSettings,
     px: u32,
     py: u32,
-    th: &mut ThreadState<I::Scratch>,
+    th: &mut ThreadState<I>,
 ) -> Vec3A {
     let camera = &shader.scene.camera;
     let sampler = &settings.sampler;
@@ -346,35 +325,31 @@ const _: () = assert!((BLOCK * BLOCK) as usize == LANES);
 /// blocks of up to 4x4 points (`f` fills one colour per point); with
 /// `want_cost`, one point at a time, recording the traversal work each took.
 fn run_tiles<I: Intersector>(
-    grid: &Grid2,
+    grid: &Raster,
     accel: &I,
     scene: &RenderScene,
     settings: &RenderSettings,
     progress: Progress,
-    f: impl Fn(&[(u32, u32)], &mut ThreadState<I::Scratch>, &mut [Vec3A]) + Sync,
+    f: impl Fn(&[(u32, u32)], &mut ThreadState<I>, &mut [Vec3A]) + Sync,
 ) -> (Vec<Vec3A>, Option<Vec<u64>>, Counters) {
     let block = if settings.packets && !settings.cost { BLOCK } else { 1 };
     let want_cost = settings.cost;
-    let (max_depth, shadow_cache) = (settings.max_depth, settings.shadow_cache);
+    let (max_depth, shadow_cache) = (settings.shade.max_depth, settings.shadow_cache);
     let tiles_x = grid.width.div_ceil(TILE);
     let tiles_y = grid.height.div_ceil(TILE);
     let total = (tiles_x * tiles_y) as usize;
     let done = AtomicUsize::new(0);
     let results: Vec<TileResult> = (0..tiles_x * tiles_y)
         .into_par_iter()
-        // One tile per job, so an idle thread can always take the next:
-        // rayon otherwise cuts the range into a few long runs, and a run of
-        // costly tiles left one thread working alone. Called from inside a
-        // pool (as `render` calls it) that cost mount_s7 at 16 spp a fifth
-        // of its time (1.92 s against 1.52 s, side by side). The thread
-        // state (traversal stacks, shadow cache) is then made per tile: a
-        // few small allocations per 256 pixels.
+        // One tile per job, so an idle thread can always take the next
+        // (rayon otherwise cuts the range into a few long runs, and a run of
+        // costly tiles leaves one thread working alone); the thread state is
+        // then made per tile, a few small allocations per 256 pixels.
         .with_max_len(1)
         .map_init(
             || ThreadState {
-                scratch: accel.scratch(&scene.geometry),
+                tracer: Tracer::new(accel, &scene.geometry),
                 shadow_cache: ShadowCache::new(scene.lights.len(), max_depth, shadow_cache),
-                counters: Counters::default(),
             },
             |th, tile| {
                 th.shadow_cache.clear();
@@ -394,20 +369,20 @@ fn run_tiles<I: Intersector>(
                                 n += 1;
                             }
                         }
-                        let work = th.counters.work();
+                        let work = th.tracer.counters.work();
                         out[..n].fill(Vec3A::ZERO);
                         f(&pts[..n], th, &mut out[..n]);
                         for (&(x, y), &c) in pts[..n].iter().zip(&out[..n]) {
                             let i = (y - grid.y0 - ty) as usize * tw + (x - grid.x0 - tx) as usize;
                             colors[i] = c;
                             if want_cost {
-                                costs[i] = th.counters.work() - work;
+                                costs[i] = th.tracer.counters.work() - work;
                             }
                         }
                     }
                 }
                 // Each tile takes its thread's counters, leaving them zeroed.
-                let tile_counters = std::mem::take(&mut th.counters);
+                let tile_counters = std::mem::take(&mut th.tracer.counters);
                 let n = done.fetch_add(1, Ordering::Relaxed) + 1;
                 progress(n, total);
                 (tile, colors, costs, tile_counters)

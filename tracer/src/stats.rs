@@ -2,7 +2,7 @@
 //! [`Counters`]; they are summed after the render (never shared while
 //! rendering), so counting costs no synchronisation and is deterministic.
 
-use crate::geometry::Kind;
+pub use crate::geometry::Kind;
 use std::ops::{AddAssign, Index, IndexMut};
 use strum::{EnumCount, VariantArray};
 

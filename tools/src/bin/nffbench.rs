@@ -5,10 +5,11 @@ use anyhow::{Context, Result};
 use clap::Parser;
 use nffkit_formats::nff::{self, ParseOptions};
 use nffkit_tools::bench::{
-    self, capture, embree_mrays, number_after, ray_rates, render_timing, write_flake, FlakeProcess,
+    self, capture, embree_mrays, number_after, render_timing, write_flake, FlakeProcess,
 };
 use nffkit_tools::cli_util;
 use nffkit_tools::golden::find_scenes_dir;
+use nffkit_tracer::bench::{ray_rates, RayRates};
 use nffkit_tracer::prepare::{prepare, PrepareOptions};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -51,7 +52,7 @@ const SCENES: [&str; 2] = ["balls_s4", "mount_s7"];
 
 /// One scene's column.
 struct Column {
-    rates: bench::RayRates,
+    rates: RayRates,
     eye: f64,
     eye_hits: u64,
     shadow: f64,

@@ -6,11 +6,9 @@ use anyhow::{Context, Result};
 use clap::Parser;
 use nffkit_formats::nff::ParseOptions;
 use nffkit_tools::{cli_util, input};
-use nffkit_tracer::accel::{AccelKind, AccelOptions, Intersector};
-use nffkit_tracer::math::RayQuery;
-use nffkit_tracer::prepare::{prepare, PrepareOptions, RenderScene};
-use nffkit_tracer::stats::Counters;
-use nffkit_tracer::with_accel;
+use nffkit_tracer::accel::{AccelKind, AccelOptions};
+use nffkit_tracer::bench::eye_rays;
+use nffkit_tracer::prepare::{prepare, PrepareOptions};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -35,22 +33,6 @@ struct Args {
     runs: u32,
 }
 
-fn shoot<I: Intersector>(scene: &RenderScene, accel: &I) -> (u64, u64) {
-    let (w, h) = scene.camera.resolution();
-    let mut scratch = accel.scratch(&scene.geometry);
-    let mut c = Counters::default();
-    let mut hits = 0;
-    for y in 0..h {
-        for x in 0..w {
-            let (ray, t_min) = scene.camera.ray(x as f32 + 0.5, y as f32 + 0.5, glam::Vec2::ZERO);
-            let q = RayQuery::new(ray, t_min);
-            hits +=
-                accel.intersect(&scene.geometry, &q, f32::INFINITY, &mut scratch, &mut c).is_some() as u64;
-        }
-    }
-    (w as u64 * h as u64, hits)
-}
-
 fn run(a: &Args) -> Result<()> {
     let scene = input::load_scene(&a.scene, &ParseOptions::default(), true)?.scene;
     let opts = PrepareOptions {
@@ -64,7 +46,7 @@ fn run(a: &Args) -> Result<()> {
     let (mut rays, mut hits) = (0, 0);
     for _ in 0..a.runs.max(1) {
         let t0 = Instant::now();
-        (rays, hits) = with_accel!(&prepared.accel, acc => shoot(&prepared, acc));
+        (rays, hits) = eye_rays(&prepared);
         best = best.min(t0.elapsed().as_secs_f64());
     }
     println!(

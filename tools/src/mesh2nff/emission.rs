@@ -21,8 +21,8 @@
 use glam::DVec3;
 use nffkit_formats::mesh::Mesh;
 use nffkit_formats::polygon::newell_normal;
+use nffkit_formats::polygon::triangulate;
 use nffkit_formats::Light;
-use nffkit_tracer::triangulate::triangulate;
 use std::collections::BTreeMap;
 
 /// The most lights emission turns into.

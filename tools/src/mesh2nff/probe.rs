@@ -9,7 +9,7 @@ use nffkit_formats::nff::{parse, ParseOptions};
 use nffkit_formats::{Light, View};
 use nffkit_tracer::camera::Camera;
 use nffkit_tracer::prepare::{point_lights, prepare, Ambient, PrepareOptions, RenderScene};
-use nffkit_tracer::render::{render, RenderSettings};
+use nffkit_tracer::render::{render, RenderSettings, ShadeSettings};
 
 /// Side of a probe image in pixels.
 pub const SIZE: u32 = 40;
@@ -50,7 +50,10 @@ impl Probe {
     pub fn look(&mut self, view: &View, lights: &[Light]) -> Seen {
         self.scene.camera = Camera::new(view, SIZE, SIZE);
         self.scene.lights = point_lights(lights, Ambient::default()).0;
-        let settings = RenderSettings { max_depth: 2, ..Default::default() };
+        let settings = RenderSettings {
+            shade: ShadeSettings { max_depth: 2, ..Default::default() },
+            ..Default::default()
+        };
         let out = render(&self.scene, &settings, &|_, _| {});
         let pixels = (SIZE * SIZE) as f64;
         let (mut lit, mut sum) = (0u32, 0.0);

@@ -15,7 +15,7 @@
 //!   The stamp array and the ray counter belong to each render thread
 //!   ([`Mailbox`], the intersector's scratch), never to the shared grid.
 
-use super::{test_prim, test_shadow, AccelInfo, Intersector};
+use super::{test_prim, AccelInfo, Intersector, Query, Tracer};
 use crate::aabb::Aabb;
 use crate::geometry::{Geometry, Hit};
 use crate::math::RayQuery;
@@ -28,10 +28,10 @@ const MAX_CELLS: u64 = 1 << 26;
 
 /// The grid.
 #[derive(Debug, Clone)]
-pub struct Grid {
+pub(crate) struct Grid {
     bounds: Aabb,
     /// Cells per axis.
-    pub dims: [u32; 3],
+    pub(crate) dims: [u32; 3],
     cell_size: Vec3A,
     inv_cell_size: Vec3A,
     /// `offsets[c]..offsets[c + 1]` are cell `c`'s entries in `items`.
@@ -44,7 +44,7 @@ pub struct Grid {
 
 /// Per-thread mailbox: the last ray id that tested each primitive.
 #[derive(Debug, Clone)]
-pub struct Mailbox {
+pub(crate) struct Mailbox {
     stamps: Vec<u32>,
     ray: u32,
 }
@@ -76,7 +76,7 @@ impl Mailbox {
 }
 
 /// Cells per axis by formula (1) of the P3D report (§3.2.2).
-pub fn cell_counts(bounds: &Aabb, n: usize, m: f32) -> [u32; 3] {
+pub(crate) fn cell_counts(bounds: &Aabb, n: usize, m: f32) -> [u32; 3] {
     let size = bounds.size().max(Vec3A::ZERO);
     // A flat world (an axis-aligned polygon) has no volume: give thin axes a
     // token thickness so the density stays finite; they still get one cell.
@@ -99,7 +99,7 @@ pub fn cell_counts(bounds: &Aabb, n: usize, m: f32) -> [u32; 3] {
 
 impl Grid {
     /// Build with density multiplier `m`.
-    pub fn build(geom: &Geometry, m: f32, mailbox: bool) -> Grid {
+    pub(crate) fn build(geom: &Geometry, m: f32, mailbox: bool) -> Grid {
         let t0 = Instant::now();
         let n = geom.bounded_len();
         let boxes: Vec<Aabb> = (0..n as u32).map(|id| geom.bounds(id)).collect();
@@ -268,40 +268,21 @@ impl Intersector for Grid {
         Mailbox::new(if self.mailbox { self.prim_count } else { 0 })
     }
 
-    fn intersect_bounded(
-        &self,
-        geom: &Geometry,
+    fn trace_bounded<Q: Query>(
+        tr: &mut Tracer<'_, Self>,
         q: &RayQuery,
         t_max: f32,
-        mb: &mut Mailbox,
-        c: &mut Counters,
+        mut best: Option<Hit>,
     ) -> Option<Hit> {
-        let mut best: Option<Hit> = None;
-        self.walk_candidates(q, t_max, mb, c, |id, t_exit, c| {
-            if let Some(id) = id {
-                test_prim(geom, id, q, &mut best, t_max, c);
-            }
-            // At the end of a cell: stop once the nearest hit lies within
-            // it, as no later cell can hold a nearer one.
-            id.is_some() || !best.is_some_and(|h| h.t <= t_exit)
+        let (grid, geom) = (tr.accel, tr.geom);
+        grid.walk_candidates(q, t_max, &mut tr.scratch, &mut tr.counters, |id, t_exit, c| match id {
+            // Any hit stops the walk at once.
+            Some(id) => !test_prim::<Q>(geom, id, q, &mut best, t_max, c),
+            // At the end of a cell: the nearest hit stops the walk once it
+            // lies within the cell, as no later cell can hold a nearer one.
+            None => Q::ANY_HIT || !best.is_some_and(|h| h.t <= t_exit),
         });
         best
-    }
-
-    fn occluder_bounded(
-        &self,
-        geom: &Geometry,
-        q: &RayQuery,
-        t_max: f32,
-        mb: &mut Mailbox,
-        c: &mut Counters,
-    ) -> Option<u32> {
-        let mut hit = None;
-        self.walk_candidates(q, t_max, mb, c, |id, _, c| {
-            hit = id.filter(|&id| test_shadow(geom, id, q, t_max, c));
-            hit.is_none()
-        });
-        hit
     }
 }
 
@@ -340,8 +321,8 @@ impl Grid {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::testing::{spheres, uniform};
     use crate::math::Ray;
+    use crate::testing::{spheres, uniform};
 
     /// 500 spheres scattered in [-5, 5]^3 by a fixed xorshift.
     fn scattered_spheres() -> Geometry {

@@ -1,186 +1,190 @@
-//! Acceleration structures behind one interface: brute force, the P3D report's
-//! uniform grid with mailboxes, and a binned-SAH BVH (the default).
+//! Acceleration structures behind one interface: brute force, the P3D
+//! report's uniform grid with mailboxes, and a binned-SAH BVH (the default).
 //!
-//! The renderer matches on [`Accel`] once per image and then runs code
-//! generic over [`Intersector`], so the hot loop has no dynamic dispatch.
+//! The renderer matches on [`Accel`] once per image ([`with_accel!`]) and
+//! then runs code generic over [`Intersector`], so the hot loop has no
+//! dynamic dispatch. Each structure writes its traversal once, for both
+//! queries a ray tracer asks: the nearest hit (eye, mirror and refracted
+//! rays) and any hit (shadow rays), chosen by a [`Query`] type ([`Nearest`]
+//! or [`AnyHit`]), as obvhs writes one traversal skeleton for both.
+//!
+//! A traversal reads and writes, besides the structure, the primitives, the
+//! thread's scratch (the grid's mailbox, the BVH's stacks) and its
+//! counters: one [`Tracer`] per render thread holds all four.
 //!
 //! Infinite planes (the course files' `pl`) have no box, so no structure
-//! holds them: each is built over the bounded ids only, and
-//! [`Intersector::intersect`] and [`Intersector::occluder`] test the planes
-//! beside it, under the same tie rule (planes have the highest ids).
+//! holds them: each is built over the bounded ids only, and [`Tracer`]
+//! tests the planes beside it, under the same tie rule (planes have the
+//! highest ids).
 
 mod brute;
 mod bvh;
 mod grid;
+#[cfg(test)]
+mod tests;
 
-pub use brute::BruteForce;
-pub use bvh::{Bvh, Stacks};
-pub use grid::{Grid, Mailbox};
+pub(crate) use brute::BruteForce;
+pub(crate) use bvh::Bvh;
+pub(crate) use grid::Grid;
 
 use crate::geometry::{Geometry, Hit};
 use crate::math::RayQuery;
-use crate::packet::{for_lanes, Mask, PacketHits, RayPacket, LANES, NO_PRIM};
+use crate::packet::{Blockers, LaneHits, PacketHits, RayPacket};
+use crate::simd::lanes::{for_lanes, Mask};
 use crate::stats::Counters;
 use strum::{Display, IntoStaticStr, VariantArray};
 
-/// Nearest-hit and any-hit queries over a [`Geometry`].
-pub trait Intersector: Sync {
+/// Which hit a traversal looks for.
+pub(crate) trait Query {
+    /// Any hit ends the search (a shadow ray's blocker); otherwise the
+    /// nearest is kept, ties to the lowest id.
+    const ANY_HIT: bool;
+}
+
+/// The nearest hit: eye, mirror and refracted rays.
+pub(crate) enum Nearest {}
+
+/// Any hit: shadow rays.
+pub(crate) enum AnyHit {}
+
+impl Query for Nearest {
+    const ANY_HIT: bool = false;
+}
+
+impl Query for AnyHit {
+    const ANY_HIT: bool = true;
+}
+
+/// The queries an acceleration structure answers over the bounded
+/// primitives (ids `0..geom.bounded_len()`) of its [`Tracer`]'s geometry.
+pub(crate) trait Intersector: Sync + Sized {
     /// Per-thread mutable state (the grid's mailbox); `()` when none.
     type Scratch: Send;
 
     /// Fresh scratch state for one render thread.
     fn scratch(&self, geom: &Geometry) -> Self::Scratch;
 
-    /// The nearest hit among the bounded primitives (ids
-    /// `0..geom.bounded_len()`) in `(q.t_min, t_max)`; at equal distance,
-    /// the lowest primitive id (so every accelerator returns the same hit).
-    fn intersect_bounded(
-        &self,
-        geom: &Geometry,
+    /// For [`Nearest`], the nearest hit in `(q.t_min, t_max)` better than
+    /// `best` (at equal distance the lowest primitive id, so every structure
+    /// returns the same hit); for [`AnyHit`], the first hit found in that
+    /// range (a shadow ray's blocker).
+    fn trace_bounded<Q: Query>(
+        tr: &mut Tracer<'_, Self>,
         q: &RayQuery,
         t_max: f32,
-        scratch: &mut Self::Scratch,
-        c: &mut Counters,
+        best: Option<Hit>,
     ) -> Option<Hit>;
 
-    /// A bounded primitive lying in `(q.t_min, t_max)`, the first one found
-    /// (not necessarily the nearest): shadow rays stop there.
-    fn occluder_bounded(
-        &self,
-        geom: &Geometry,
-        q: &RayQuery,
-        t_max: f32,
-        scratch: &mut Self::Scratch,
-        c: &mut Counters,
-    ) -> Option<u32>;
-
-    /// For each active lane of `p`, the nearest bounded hit in `(t_min,
-    /// t_max)` by the rule of [`Intersector::intersect_bounded`], merged
-    /// into `hits`. The default traces lane by lane; the BVH traces the
-    /// packet together.
-    fn intersect_packet_bounded(
-        &self,
-        geom: &Geometry,
-        p: &RayPacket,
-        hits: &mut PacketHits,
-        scratch: &mut Self::Scratch,
-        c: &mut Counters,
-    ) {
-        for_lanes(p.active, |i| {
-            if let Some(h) = self.intersect_bounded(geom, &p.query(i), p.t_max.0[i], scratch, c) {
-                hits.keep(i, h);
+    /// [`Intersector::trace_bounded`] for the lanes of `mask`, each within
+    /// `(t_min, t_max)` and better than its best in `hits`, taken into
+    /// `hits`. The default traces lane by lane; the BVH traces the packet
+    /// together.
+    fn trace_packet_bounded<H: LaneHits>(tr: &mut Tracer<'_, Self>, p: &RayPacket, mask: Mask, hits: &mut H) {
+        for_lanes(mask, |i| {
+            if let Some(h) = Self::trace_bounded::<H::Query>(tr, &p.query(i), p.t_max.0[i], hits.best(i)) {
+                hits.take(i, h);
             }
         });
     }
+}
 
-    /// For each lane of `mask` (among `p`'s active ones), a bounded
-    /// primitive blocking it within `(t_min, t_max)`, written to `out`
-    /// (lanes left clear keep their value).
-    fn occluders_packet_bounded(
-        &self,
-        geom: &Geometry,
-        p: &RayPacket,
-        mask: Mask,
-        out: &mut [u32; LANES],
-        scratch: &mut Self::Scratch,
-        c: &mut Counters,
-    ) {
-        for_lanes(mask & p.active, |i| {
-            if let Some(id) = self.occluder_bounded(geom, &p.query(i), p.t_max.0[i], scratch, c) {
-                out[i] = id;
-            }
-        });
-    }
+/// One render thread's tracing context: the structure, the primitives, the
+/// thread's scratch and its counters.
+pub(crate) struct Tracer<'a, I: Intersector> {
+    /// The acceleration structure.
+    pub accel: &'a I,
+    /// The primitives it was built over.
+    pub geom: &'a Geometry,
+    /// The thread's scratch for `accel`.
+    pub scratch: I::Scratch,
+    /// The thread's work counters.
+    pub counters: Counters,
+}
 
-    /// [`Intersector::intersect`] for every active lane of a packet.
-    #[inline]
-    fn intersect_packet(
-        &self,
-        geom: &Geometry,
-        p: &RayPacket,
-        hits: &mut PacketHits,
-        scratch: &mut Self::Scratch,
-        c: &mut Counters,
-    ) {
-        self.intersect_packet_bounded(geom, p, hits, scratch, c);
-        for id in geom.plane_ids() {
-            for_lanes(p.active, |i| {
-                c.tests[geom.locate(id).0] += 1;
-                hits.test_scalar(geom, id, &p.query(i), i);
-            });
-        }
-    }
-
-    /// [`Intersector::occluder`] for every active lane of a packet: each
-    /// lane's blocker, or [`NO_PRIM`] when its shadow ray is clear.
-    #[inline]
-    fn occluders_packet(
-        &self,
-        geom: &Geometry,
-        p: &RayPacket,
-        scratch: &mut Self::Scratch,
-        c: &mut Counters,
-    ) -> [u32; LANES] {
-        let mut out = [NO_PRIM; LANES];
-        let mut open = p.active;
-        for id in geom.plane_ids() {
-            for_lanes(open, |i| {
-                if test_shadow(geom, id, &p.query(i), p.t_max.0[i], c) {
-                    out[i] = id;
-                    open &= !(1 << i);
-                }
-            });
-        }
-        self.occluders_packet_bounded(geom, p, open, &mut out, scratch, c);
-        out
+impl<'a, I: Intersector> Tracer<'a, I> {
+    /// A context for one thread.
+    pub fn new(accel: &'a I, geom: &'a Geometry) -> Tracer<'a, I> {
+        Tracer { accel, geom, scratch: accel.scratch(geom), counters: Counters::default() }
     }
 
     /// The nearest hit in `(q.t_min, t_max)` over every primitive, planes
     /// included; ties go to the lowest id.
     #[inline]
-    fn intersect(
-        &self,
-        geom: &Geometry,
-        q: &RayQuery,
-        t_max: f32,
-        scratch: &mut Self::Scratch,
-        c: &mut Counters,
-    ) -> Option<Hit> {
-        let mut best = self.intersect_bounded(geom, q, t_max, scratch, c);
-        for id in geom.plane_ids() {
-            test_prim(geom, id, q, &mut best, t_max, c);
-        }
-        best
+    pub fn nearest(&mut self, q: &RayQuery, t_max: f32) -> Option<Hit> {
+        self.trace::<Nearest>(q, t_max)
     }
 
-    /// A primitive lying in `(q.t_min, t_max)` (a shadow ray's blocker),
-    /// planes first: they are few and, being infinite, likely to block.
+    /// A primitive lying in `(q.t_min, t_max)` (a shadow ray's blocker).
     #[inline]
-    fn occluder(
-        &self,
-        geom: &Geometry,
-        q: &RayQuery,
-        t_max: f32,
-        scratch: &mut Self::Scratch,
-        c: &mut Counters,
-    ) -> Option<u32> {
-        match geom.plane_ids().find(|&id| test_shadow(geom, id, q, t_max, c)) {
-            Some(id) => Some(id),
-            None => self.occluder_bounded(geom, q, t_max, scratch, c),
-        }
+    pub fn occluder(&mut self, q: &RayQuery, t_max: f32) -> Option<u32> {
+        self.trace::<AnyHit>(q, t_max).map(|h| h.prim)
     }
 
     /// Whether anything lies in `(q.t_min, t_max)`.
     #[inline]
-    fn occluded(
-        &self,
-        geom: &Geometry,
-        q: &RayQuery,
-        t_max: f32,
-        scratch: &mut Self::Scratch,
-        c: &mut Counters,
-    ) -> bool {
-        self.occluder(geom, q, t_max, scratch, c).is_some()
+    pub fn occluded(&mut self, q: &RayQuery, t_max: f32) -> bool {
+        self.occluder(q, t_max).is_some()
+    }
+
+    /// The nearest hit or any hit, planes included: for any hit the planes
+    /// go first (they are few and, being infinite, likely to block), for
+    /// the nearest last (their ids are the highest).
+    #[inline]
+    fn trace<Q: Query>(&mut self, q: &RayQuery, t_max: f32) -> Option<Hit> {
+        let geom = self.geom;
+        let mut best = None;
+        if Q::ANY_HIT {
+            for id in geom.plane_ids() {
+                if test_prim::<AnyHit>(geom, id, q, &mut best, t_max, &mut self.counters) {
+                    return best;
+                }
+            }
+        }
+        best = I::trace_bounded::<Q>(self, q, t_max, None);
+        if !Q::ANY_HIT {
+            for id in geom.plane_ids() {
+                test_prim::<Nearest>(geom, id, q, &mut best, t_max, &mut self.counters);
+            }
+        }
+        best
+    }
+
+    /// [`Tracer::nearest`] for every active lane of a packet, into `hits`.
+    #[inline]
+    pub fn nearest_packet(&mut self, p: &RayPacket, hits: &mut PacketHits) {
+        I::trace_packet_bounded(self, p, p.active, hits);
+        let geom = self.geom;
+        for id in geom.plane_ids() {
+            for_lanes(p.active, |i| {
+                let mut best = hits.best(i);
+                test_prim::<Nearest>(geom, id, &p.query(i), &mut best, p.t_max.0[i], &mut self.counters);
+                if let Some(h) = best {
+                    hits.take(i, h);
+                }
+            });
+        }
+    }
+
+    /// [`Tracer::occluder`] for every active lane of a packet: each lane's
+    /// blocker, or none when its shadow ray is clear.
+    #[inline]
+    pub fn occluders_packet(&mut self, p: &RayPacket) -> Blockers {
+        let mut blockers = Blockers::new();
+        let mut open = p.active;
+        let geom = self.geom;
+        for id in geom.plane_ids() {
+            for_lanes(open, |i| {
+                let mut found = None;
+                if test_prim::<AnyHit>(geom, id, &p.query(i), &mut found, p.t_max.0[i], &mut self.counters) {
+                    blockers.0[i] = id;
+                    open &= !(1 << i);
+                }
+            });
+        }
+        if open != 0 {
+            I::trace_packet_bounded(self, p, open, &mut blockers);
+        }
+        blockers
     }
 }
 
@@ -197,8 +201,13 @@ pub enum AccelKind {
     Bvh,
 }
 
+impl AccelKind {
+    /// Every kind (derived by strum, so a new one is not left out).
+    pub const ALL: &'static [AccelKind] = <AccelKind as VariantArray>::VARIANTS;
+}
+
 /// Options for building an accelerator.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AccelOptions {
     /// Which structure.
     pub kind: AccelKind,
@@ -216,7 +225,7 @@ impl Default for AccelOptions {
 
 /// A built accelerator.
 #[derive(Debug, Clone)]
-pub enum Accel {
+pub(crate) enum Accel {
     /// Brute force.
     None(BruteForce),
     /// Uniform grid.
@@ -242,7 +251,7 @@ pub struct AccelInfo {
 
 impl Accel {
     /// Build the chosen structure over `geom`.
-    pub fn build(geom: &Geometry, opts: &AccelOptions) -> Accel {
+    pub(crate) fn build(geom: &Geometry, opts: &AccelOptions) -> Accel {
         match opts.kind {
             AccelKind::None => Accel::None(BruteForce),
             AccelKind::Grid => Accel::Grid(Grid::build(geom, opts.grid_m, opts.mailbox)),
@@ -264,7 +273,6 @@ impl Accel {
 
 /// Run `f` with the concrete accelerator: the one place dynamic choice meets
 /// the generic hot loop.
-#[macro_export]
 macro_rules! with_accel {
     ($accel:expr, $a:ident => $body:expr) => {
         match $accel {
@@ -274,34 +282,35 @@ macro_rules! with_accel {
         }
     };
 }
+pub(crate) use with_accel;
 
-/// Test one primitive, counting the test, keeping the better of two hits.
-/// `limit` is `t_max` nudged up one ulp so that an equal-distance hit with a
-/// lower id can still win the tie.
+/// Test primitive `id` on the ray of `q`, counting the test. [`Nearest`]:
+/// keep the better of the hit and `best`, testing below `best`'s distance
+/// nudged up one ulp, so that an equal-distance hit with a lower id can
+/// still win the tie; returns false. [`AnyHit`]: a hit in `(q.t_min,
+/// t_max)` becomes `best` and the answer is true (stop).
 #[inline(always)]
-pub(crate) fn test_prim(
+pub(crate) fn test_prim<Q: Query>(
     geom: &Geometry,
     id: u32,
     q: &RayQuery,
     best: &mut Option<Hit>,
     t_max: f32,
     c: &mut Counters,
-) {
+) -> bool {
     let limit = match best {
-        Some(b) => f32::from_bits(b.t.to_bits() + 1),
-        None => t_max,
+        Some(b) if !Q::ANY_HIT => f32::from_bits(b.t.to_bits() + 1),
+        _ => t_max,
     };
     c.tests[geom.locate(id).0] += 1;
     if let Some(h) = geom.intersect(id, q, limit) {
+        if Q::ANY_HIT {
+            *best = Some(h);
+            return true;
+        }
         if h.beats(best) {
             *best = Some(h);
         }
     }
-}
-
-/// Whether primitive `id` occludes the shadow ray, counting the test.
-#[inline(always)]
-pub fn test_shadow(geom: &Geometry, id: u32, q: &RayQuery, t_max: f32, c: &mut Counters) -> bool {
-    c.tests[geom.locate(id).0] += 1;
-    geom.intersect(id, q, t_max).is_some()
+    false
 }

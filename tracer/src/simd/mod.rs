@@ -1,21 +1,24 @@
-//! Which vector unit the packet kernels use, chosen once at run time.
+//! Which vector unit the packet kernels use, chosen once at run time, and
+//! the lanes and vectors they are written over.
 //!
-//! The kernels (packet traversal and the lane-wise sphere and triangle
-//! tests in [`crate::packet`] and the BVH's packet traversal) are written
-//! once as plain loops over [`crate::packet::LANES`] lanes. [`dispatch!`]
-//! compiles that one body several times, each inside a function with
+//! The kernels (packet traversal and the lane-wise tests and setups in
+//! [`crate::packet`]) are written once, generic over a vector type
+//! [`vector::F32s`], as loops over [`LANES`] lanes. [`dispatch!`] compiles
+//! that one body several times, each inside a function with
 //! `#[target_feature]` for one instruction set, and calls the widest the
 //! processor has: AVX-512 (one 16-lane register per loop), AVX2 (two 8-lane
-//! ones), or the portable build (SSE2 on x86-64, NEON on aarch64). The
-//! compiler never fuses a multiply and an add on its own, so every build
+//! ones), or the portable build (SSE2 on x86-64, plain arrays elsewhere).
+//! The compiler never fuses a multiply and an add on its own, so every build
 //! computes the same bits: results do not depend on the machine.
 //!
 //! `NFFKIT_SIMD=portable|avx2|avx512` caps the choice (for measuring the
 //! difference and for the test that the kernels agree).
 
-pub mod vec3;
-pub mod vector;
+pub(crate) mod lanes;
+pub(crate) mod vec3;
+pub(crate) mod vector;
 
+pub use lanes::LANES;
 use std::sync::OnceLock;
 use strum::{Display, IntoStaticStr, VariantArray};
 
@@ -71,58 +74,62 @@ pub fn isa() -> Isa {
 }
 
 /// Define `$name` running `$body` compiled for the instruction set it is
-/// given (pass [`isa()`](crate::simd::isa) for the widest). In the body, the
-/// type `V` is that set's [`vector::F32s`]; the body should call
-/// `#[inline(always)]` functions generic over it, so they are compiled with
-/// the instruction set too.
+/// given (pass [`isa()`] for the widest). The body is written as
+/// `|s| expr`: `s` is the [`vector::Simd`] proof of the set it runs on,
+/// from which generic `#[inline(always)]` kernels make their vectors, so
+/// they are compiled with the instruction set too. The function may take
+/// type parameters with one bound each (`fn name<H: Bound>(...)`).
 ///
 /// ```ignore
 /// dispatch! {
 ///     /// Docs.
-///     pub fn kernel(isa: Isa, a: &A, b: &mut B) -> R { body(a, b) }
+///     pub(crate) fn kernel(isa: Isa, a: &A, b: &mut B) -> R { |s| body(s, a, b) }
 /// }
 /// ```
-#[macro_export]
 macro_rules! dispatch {
-    ($(#[$m:meta])* $vis:vis fn $name:ident($isa:ident: Isa $(, $p:ident: $t:ty)* $(,)?) $(-> $r:ty)? $body:block) => {
+    ($(#[$m:meta])* $vis:vis fn $name:ident $(<$($g:ident: $b:path),*>)?
+        ($isa:ident: Isa $(, $p:ident: $t:ty)* $(,)?) $(-> $r:ty)? { |$s:ident| $body:expr }) => {
         $(#[$m])*
         #[allow(unsafe_code, clippy::too_many_arguments)]
-        $vis fn $name($isa: $crate::simd::Isa $(, $p: $t)*) $(-> $r)? {
+        $vis fn $name $(<$($g: $b),*>)? ($isa: $crate::simd::Isa $(, $p: $t)*) $(-> $r)? {
+            use $crate::simd::vector::Simd;
             #[cfg(target_arch = "x86_64")]
             {
                 #[allow(clippy::too_many_arguments)]
                 #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-                fn avx512($($p: $t),*) $(-> $r)? {
-                    #[allow(unused)]
-                    type V = $crate::simd::vector::Avx512;
+                fn avx512 $(<$($g: $b),*>)? ($($p: $t),*) $(-> $r)? {
+                    // SAFETY: called below only when the set is supported.
+                    let $s = unsafe { Simd::<$crate::simd::vector::Avx512>::new_unchecked() };
                     $body
                 }
                 #[allow(clippy::too_many_arguments)]
                 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-                fn avx2($($p: $t),*) $(-> $r)? {
-                    #[allow(unused)]
-                    type V = $crate::simd::vector::Avx2;
+                fn avx2 $(<$($g: $b),*>)? ($($p: $t),*) $(-> $r)? {
+                    // SAFETY: as for `avx512`.
+                    let $s = unsafe { Simd::<$crate::simd::vector::Avx2>::new_unchecked() };
                     $body
                 }
-                // SAFETY: `Isa::Avx512`/`Avx2` are only chosen (by `isa()`
-                // or a caller) when `Isa::supported` confirmed the features.
+                // SAFETY: `Isa::supported` confirmed the features.
                 match $isa {
-                    $crate::simd::Isa::Avx512 if $isa.supported() => return unsafe { avx512($($p),*) },
-                    $crate::simd::Isa::Avx2 if $isa.supported() => return unsafe { avx2($($p),*) },
+                    $crate::simd::Isa::Avx512 if $isa.supported() => {
+                        return unsafe { avx512 $(::<$($g),*>)? ($($p),*) }
+                    }
+                    $crate::simd::Isa::Avx2 if $isa.supported() => {
+                        return unsafe { avx2 $(::<$($g),*>)? ($($p),*) }
+                    }
                     _ => {}
                 }
             }
             let _ = $isa;
             #[cfg(target_arch = "x86_64")]
-            #[allow(unused)]
-            type V = $crate::simd::vector::Sse;
+            let $s = Simd::<$crate::simd::vector::Sse>::new();
             #[cfg(not(target_arch = "x86_64"))]
-            #[allow(unused)]
-            type V = $crate::simd::vector::Scalar4;
+            let $s = Simd::<$crate::simd::vector::Scalar4>::new();
             $body
         }
     };
 }
+pub(crate) use dispatch;
 
 #[cfg(test)]
 mod tests {

@@ -8,22 +8,82 @@
 //! multiply-add, `max(a, b)` as `a > b ? a : b`), so a lane computes the
 //! bits its ray computes alone.
 //!
-//! The methods call `std::arch` intrinsics in `unsafe` blocks; they are
-//! `#[inline(always)]` and only reached from the functions [`dispatch!`]
-//! compiles for that instruction set after checking the processor has it.
+//! Safety rests on one rule: a vector exists only where its instruction set
+//! was proven present. The only constructors are [`Simd::splat`] and
+//! [`Simd::load`], and a [`Simd`] proof is made by
+//! [`dispatch!`](crate::simd::dispatch) after the run-time check (or from
+//! a vector that already exists). Every other operation takes a vector, so
+//! it too runs only on a processor that has the instructions.
 
-use crate::packet::LANES;
+// The one module that makes and uses vectors: the unsafe code the crate
+// allows is here.
+#![allow(unsafe_code)]
+
+use super::lanes::LANES;
+use std::marker::PhantomData;
+
+/// Proof that this processor runs the instructions of `V`, and the way to
+/// make vectors of it.
+#[derive(Clone, Copy)]
+pub(crate) struct Simd<V>(PhantomData<V>);
+
+impl<V: F32s> Simd<V> {
+    /// A proof taken on trust.
+    ///
+    /// # Safety
+    ///
+    /// The processor must support `V`'s instruction set (checked with
+    /// [`crate::simd::Isa::supported`]).
+    #[inline(always)]
+    pub(crate) unsafe fn new_unchecked() -> Simd<V> {
+        Simd(PhantomData)
+    }
+
+    /// The proof a vector carries: it could only be made with one.
+    #[inline(always)]
+    pub(crate) fn of(_: V) -> Simd<V> {
+        Simd(PhantomData)
+    }
+
+    /// Every lane `x`.
+    #[inline(always)]
+    pub(crate) fn splat(self, x: f32) -> V {
+        // SAFETY: `self` proves the instruction set is present.
+        unsafe { V::splat_unchecked(x) }
+    }
+
+    /// Lanes `g * W ..` of `a`.
+    #[inline(always)]
+    pub(crate) fn load(self, a: &[f32; LANES], g: usize) -> V {
+        // SAFETY: as for `splat`.
+        unsafe { V::load_unchecked(a, g) }
+    }
+}
 
 /// Lanes of f32 and their comparison masks.
-pub trait F32s: Copy {
+///
+/// # Safety
+///
+/// An implementation promises that its safe methods need no instruction
+/// beyond those that making a value needed: they are called wherever a
+/// value exists.
+pub(crate) unsafe trait F32s: Copy {
     /// Lanes per vector.
     const W: usize;
     /// A comparison result.
     type M: Copy;
     /// Every lane `x`.
-    fn splat(x: f32) -> Self;
+    ///
+    /// # Safety
+    ///
+    /// The processor must support the instruction set (see [`Simd`]).
+    unsafe fn splat_unchecked(x: f32) -> Self;
     /// Lanes `g * W ..` of `a`.
-    fn load(a: &[f32; LANES], g: usize) -> Self;
+    ///
+    /// # Safety
+    ///
+    /// As for [`F32s::splat_unchecked`].
+    unsafe fn load_unchecked(a: &[f32; LANES], g: usize) -> Self;
     /// Store into lanes `g * W ..` of `a`.
     fn store(self, a: &mut [f32; LANES], g: usize);
     /// `self + o`.
@@ -76,27 +136,28 @@ pub trait F32s: Copy {
 #[inline(always)]
 fn to_i32_bits_with<V: F32s>(x: V, truncate: impl Fn(V) -> V) -> V {
     const TWO_31: f32 = 2147483648.0;
-    let x = V::select(x.eq(x), x, V::splat(0.0));
-    let t = truncate(x.max(V::splat(-TWO_31)));
-    V::select(V::splat(TWO_31).le(x), V::splat(f32::from_bits(i32::MAX as u32)), t)
+    let s = Simd::of(x);
+    let x = V::select(x.eq(x), x, s.splat(0.0));
+    let t = truncate(x.max(s.splat(-TWO_31)));
+    V::select(s.splat(TWO_31).le(x), s.splat(f32::from_bits(i32::MAX as u32)), t)
 }
 
 /// The mask bits of group `g` placed at their packet lanes.
 #[inline(always)]
-pub fn group_bits<V: F32s>(m: V::M, g: usize) -> u32 {
+pub(crate) fn group_bits<V: F32s>(m: V::M, g: usize) -> u32 {
     V::bits(m) << (g * V::W)
 }
 
 /// Whether any lane of group `g` is in `mask`.
 #[inline(always)]
-pub fn group_active<V: F32s>(mask: u32, g: usize) -> bool {
+pub(crate) fn group_active<V: F32s>(mask: u32, g: usize) -> bool {
     let group = if V::W >= 32 { u32::MAX } else { (1u32 << V::W) - 1 };
     (mask >> (g * V::W)) & group != 0
 }
 
 /// Four lanes in a plain array: the portable fallback off x86-64.
 #[derive(Clone, Copy)]
-pub struct Scalar4([f32; 4]);
+pub(crate) struct Scalar4([f32; 4]);
 
 impl Scalar4 {
     #[inline(always)]
@@ -110,15 +171,16 @@ impl Scalar4 {
     }
 }
 
-impl F32s for Scalar4 {
+// SAFETY: plain Rust, which every processor runs.
+unsafe impl F32s for Scalar4 {
     const W: usize = 4;
     type M = [bool; 4];
     #[inline(always)]
-    fn splat(x: f32) -> Self {
+    unsafe fn splat_unchecked(x: f32) -> Self {
         Scalar4([x; 4])
     }
     #[inline(always)]
-    fn load(a: &[f32; LANES], g: usize) -> Self {
+    unsafe fn load_unchecked(a: &[f32; LANES], g: usize) -> Self {
         Scalar4(std::array::from_fn(|i| a[g * 4 + i]))
     }
     #[inline(always)]
@@ -217,15 +279,29 @@ impl F32s for Scalar4 {
     }
 }
 
-#[cfg(target_arch = "x86_64")]
-pub use x86::{Avx2, Avx512, Sse};
+impl Simd<Scalar4> {
+    /// Plain arrays need no proof.
+    #[cfg_attr(target_arch = "x86_64", allow(dead_code))]
+    pub(crate) fn new() -> Simd<Scalar4> {
+        Simd(PhantomData)
+    }
+}
 
 #[cfg(target_arch = "x86_64")]
-#[allow(unsafe_code)]
+pub(crate) use x86::{Avx2, Avx512, Sse};
+
+#[cfg(target_arch = "x86_64")]
 mod x86 {
-    use super::F32s;
-    use crate::packet::LANES;
+    use super::{F32s, Simd, LANES};
     use std::arch::x86_64::*;
+    use std::marker::PhantomData;
+
+    impl Simd<Sse> {
+        /// SSE2 is part of x86-64 itself: no check is needed.
+        pub(crate) fn new() -> Simd<Sse> {
+            Simd(PhantomData)
+        }
+    }
 
     /// Generates the shared body of a 128/256-bit implementation, whose
     /// masks are vectors of all-ones or zero lanes.
@@ -236,17 +312,19 @@ mod x86 {
          $cvtt:ident, $addi:ident, $subi:ident, $tosi:ident, $tops:ident, $hmin:expr) => {
             /// See the module doc.
             #[derive(Clone, Copy)]
-            pub struct $name($v);
+            pub(crate) struct $name($v);
 
-            impl F32s for $name {
+            // SAFETY: every method below uses the intrinsics of the set
+            // that making a value needed, and no others.
+            unsafe impl F32s for $name {
                 const W: usize = $w;
                 type M = $v;
                 #[inline(always)]
-                fn splat(x: f32) -> Self {
+                unsafe fn splat_unchecked(x: f32) -> Self {
                     $name(unsafe { $set1(x) })
                 }
                 #[inline(always)]
-                fn load(a: &[f32; LANES], g: usize) -> Self {
+                unsafe fn load_unchecked(a: &[f32; LANES], g: usize) -> Self {
                     let s = &a[g * $w..g * $w + $w];
                     $name(unsafe { $loadu(s.as_ptr()) })
                 }
@@ -432,17 +510,18 @@ mod x86 {
 
     /// Sixteen lanes with AVX-512 mask registers.
     #[derive(Clone, Copy)]
-    pub struct Avx512(__m512);
+    pub(crate) struct Avx512(__m512);
 
-    impl F32s for Avx512 {
+    // SAFETY: as for the SSE-like sets: AVX-512 F/VL/BW/DQ intrinsics only.
+    unsafe impl F32s for Avx512 {
         const W: usize = 16;
         type M = __mmask16;
         #[inline(always)]
-        fn splat(x: f32) -> Self {
+        unsafe fn splat_unchecked(x: f32) -> Self {
             Avx512(unsafe { _mm512_set1_ps(x) })
         }
         #[inline(always)]
-        fn load(a: &[f32; LANES], g: usize) -> Self {
+        unsafe fn load_unchecked(a: &[f32; LANES], g: usize) -> Self {
             let s = &a[g * 16..g * 16 + 16];
             Avx512(unsafe { _mm512_loadu_ps(s.as_ptr()) })
         }
@@ -559,7 +638,7 @@ mod tests {
     use super::*;
 
     /// Every operation of `V`, on awkward values, against [`Scalar4`].
-    fn agrees_with_scalar<V: F32s>() {
+    fn agrees_with_scalar<V: F32s>(s: Simd<V>) {
         let special = [0.0, -0.0, 1.0, -1.5, 3.25, 1e30, -1e-30, f32::INFINITY, f32::NEG_INFINITY, f32::NAN];
         let mut a = [0.0f32; LANES];
         let mut b = [0.0f32; LANES];
@@ -570,7 +649,7 @@ mod tests {
                 b[i] = special[(n / special.len() + n) % special.len()];
             }
             for g in 0..LANES / V::W {
-                let (x, y) = (V::load(&a, g), V::load(&b, g));
+                let (x, y) = (s.load(&a, g), s.load(&b, g));
                 type Op<'a> = &'a dyn Fn(f32, f32) -> f32;
                 let int = |x: f32| x.to_bits() as i32;
                 let ops: [(V, Op); 12] = [
@@ -583,7 +662,7 @@ mod tests {
                     (x.sqrt(), &|p, _| p.sqrt()),
                     (x.copysign(y), &|p, q| p.copysign(q)),
                     (x.neg(), &|p, _| -p),
-                    (x.mul(V::splat(3e9)).to_i32_bits(), &|p, _| f32::from_bits(((p * 3e9) as i32) as u32)),
+                    (x.mul(s.splat(3e9)).to_i32_bits(), &|p, _| f32::from_bits(((p * 3e9) as i32) as u32)),
                     (x.add_i32(y), &|p, q| f32::from_bits(int(p).wrapping_add(int(q)) as u32)),
                     (x.sub_i32(y), &|p, q| f32::from_bits(int(p).wrapping_sub(int(q)) as u32)),
                 ];
@@ -620,7 +699,7 @@ mod tests {
             }
         }
         assert_eq!(
-            group_bits::<V>(V::splat(1.0).lt(V::splat(2.0)), 1 % (LANES / V::W))
+            group_bits::<V>(s.splat(1.0).lt(s.splat(2.0)), 1 % (LANES / V::W))
                 >> ((1 % (LANES / V::W)) * V::W)
                 & 1,
             1
@@ -629,15 +708,18 @@ mod tests {
 
     #[test]
     fn every_vector_type_computes_the_scalar_bits() {
-        agrees_with_scalar::<Scalar4>();
+        agrees_with_scalar(Simd::<Scalar4>::new());
         #[cfg(target_arch = "x86_64")]
         {
-            agrees_with_scalar::<Sse>();
-            if crate::simd::Isa::Avx2.supported() {
-                agrees_with_scalar::<Avx2>();
+            use crate::simd::Isa;
+            agrees_with_scalar(Simd::<Sse>::new());
+            if Isa::Avx2.supported() {
+                // SAFETY: checked just above.
+                agrees_with_scalar(unsafe { Simd::<Avx2>::new_unchecked() });
             }
-            if crate::simd::Isa::Avx512.supported() {
-                agrees_with_scalar::<Avx512>();
+            if Isa::Avx512.supported() {
+                // SAFETY: checked just above.
+                agrees_with_scalar(unsafe { Simd::<Avx512>::new_unchecked() });
             }
         }
     }

@@ -3,9 +3,9 @@
 
 use nffkit_formats::nff::{self, ParseOptions};
 use nffkit_tracer::accel::{AccelKind, AccelOptions};
-use nffkit_tracer::integrator::LightShape;
+use nffkit_tracer::light::LightShape;
 use nffkit_tracer::prepare::{prepare, PrepareOptions};
-use nffkit_tracer::render::{render, RenderSettings};
+use nffkit_tracer::render::{render, RenderSettings, ShadeSettings};
 use nffkit_tracer::sampling::{Sampler, SamplerKind};
 
 fn scene() -> nffkit_formats::Scene {
@@ -17,8 +17,7 @@ fn settings() -> RenderSettings {
     RenderSettings {
         sampler: Sampler::new(SamplerKind::MultiJittered, 4, 9).0,
         centre_single_sample: false,
-        light_size: 0.5,
-        light_shape: LightShape::Disk,
+        shade: ShadeSettings { light_size: 0.5, light_shape: LightShape::Disk, ..Default::default() },
         ..Default::default()
     }
 }

@@ -8,7 +8,7 @@ use nffkit_formats::nff::{self, ParseOptions};
 use nffkit_tracer::accel::{AccelKind, AccelOptions};
 use nffkit_tracer::film::Film;
 use nffkit_tracer::prepare::{prepare, Ambient, PrepareOptions};
-use nffkit_tracer::render::{render, RenderOutput, RenderSettings};
+use nffkit_tracer::render::{render, RenderOutput, RenderSettings, ShadeSettings};
 
 fn render_with(src: &str, opts: &PrepareOptions, settings: &RenderSettings) -> RenderOutput {
     let scene = nff::parse(src.as_bytes(), &ParseOptions::default()).unwrap().scene;
@@ -25,7 +25,10 @@ fn view(n: u32) -> String {
 }
 
 fn spd(max_depth: u32) -> RenderSettings {
-    RenderSettings { spd_corners: true, max_depth, ..Default::default() }
+    RenderSettings {
+        shade: ShadeSettings { spd: true, max_depth, ..Default::default() },
+        ..Default::default()
+    }
 }
 
 #[test]
@@ -35,8 +38,11 @@ fn spd_rules_spawn_reflection_at_transmitters_and_count_eye_hits() {
     // the sphere small, so use a wide sphere that every corner ray hits.
     let src = format!("{}l 0 0 10 1 1 1\nf 1 1 1 0 0 1 0.8 1.5\ns 0 0 0 4\n", view(1));
     // Depth 2: each eye hit spawns one reflection and one refraction ray.
-    let plain =
-        render_with(&src, &PrepareOptions::default(), &RenderSettings { max_depth: 2, ..Default::default() });
+    let plain = render_with(
+        &src,
+        &PrepareOptions::default(),
+        &RenderSettings { shade: ShadeSettings { max_depth: 2, ..Default::default() }, ..Default::default() },
+    );
     assert_eq!((plain.counters.eye, plain.counters.eye_hits), (1, 1));
     assert_eq!(
         (plain.counters.reflected, plain.counters.refracted),
@@ -57,11 +63,18 @@ fn total_internal_reflection_is_one_reflection_ray_not_a_refraction() {
                l 0 0 0 1 1 1\nf 1 1 1 0 0 1 1 1.5\ns 0 -100 0 100.5\n";
     let scene = nff::parse(src.as_bytes(), &ParseOptions::default()).unwrap().scene;
     let prepared = prepare(&scene, &PrepareOptions::default()).unwrap();
-    let plain = render(&prepared, &RenderSettings { max_depth: 2, ..Default::default() }, &|_, _| {});
+    let plain = render(
+        &prepared,
+        &RenderSettings { shade: ShadeSettings { max_depth: 2, ..Default::default() }, ..Default::default() },
+        &|_, _| {},
+    );
     assert_eq!((plain.counters.reflected, plain.counters.refracted), (1, 0), "TIR counts as reflection");
     let c = render(
         &prepared,
-        &RenderSettings { spd_corners: true, max_depth: 2, ..Default::default() },
+        &RenderSettings {
+            shade: ShadeSettings { spd: true, max_depth: 2, ..Default::default() },
+            ..Default::default()
+        },
         &|_, _| {},
     )
     .counters;

@@ -2,8 +2,6 @@
 //! test executable (as ripgrep does): a test binary per file would link the
 //! crate and its dependencies once each.
 
-mod accel_agreement;
-mod common;
 mod determinism;
 mod fidelity;
 mod packets;

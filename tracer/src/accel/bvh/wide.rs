@@ -11,17 +11,19 @@
 
 use super::build::{self, Binary, BuildPrim};
 use crate::aabb::SLAB_WIDEN;
+use crate::accel::Query;
 use crate::geometry::Geometry;
 use crate::math::RayQuery;
-use crate::packet::{Mask, RayPacket, LANES};
-use crate::simd::vector::{group_active, group_bits, F32s};
+use crate::packet::RayPacket;
+use crate::simd::lanes::{Mask, LANES};
+use crate::simd::vector::{group_active, group_bits, F32s, Simd};
 use glam::Vec4;
 use rayon::prelude::*;
 
 /// A 4-wide node.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[repr(C, align(64))]
-pub struct Node4 {
+pub(crate) struct Node4 {
     min: [Vec4; 3],
     max: [Vec4; 3],
     child: [u32; 4],
@@ -32,7 +34,7 @@ const _: () = assert!(std::mem::size_of::<Node4>() == 128);
 
 /// Entries of the traversal stack: a node or a leaf, and its entry distance.
 #[derive(Clone, Copy, Default)]
-pub struct Entry {
+pub(crate) struct Entry {
     /// Node index, or first primitive of a leaf.
     pub child: u32,
     /// 0 for a node, else the leaf's primitive count.
@@ -43,7 +45,7 @@ pub struct Entry {
 
 /// Deep enough for any tree the builder makes (depth ≤ 64, three siblings
 /// pushed per level); the per-thread stack is allocated once at this size.
-pub const STACK: usize = 256;
+pub(crate) const STACK: usize = 256;
 
 /// Binary nodes larger than this have their subtrees built in parallel.
 const PARALLEL_BUILD: usize = 1 << 16;
@@ -243,18 +245,19 @@ impl Node4 {
     /// distances, which for the non-empty boxes tested equals choosing them
     /// by the sign of 1/d.
     ///
-    /// With `NEAREST` false (shadow rays, which need no order), the entry
-    /// distances are not gathered and come back infinite.
+    /// For [`AnyHit`](crate::accel::AnyHit) (shadow rays, which need no
+    /// order), the entry distances are not gathered and come back infinite.
     #[inline(always)]
-    pub fn hit_packet<V: F32s, const NEAREST: bool>(
+    pub fn hit_packet<V: F32s, Q: Query>(
         &self,
+        s: Simd<V>,
         p: &RayPacket,
         far: &[f32; LANES],
         mask: Mask,
     ) -> ([Mask; 4], [f32; 4]) {
         let mut masks = [0; 4];
         let mut nearest = [f32::INFINITY; 4];
-        let inf = V::splat(f32::INFINITY);
+        let inf = s.splat(f32::INFINITY);
         for slot in 0..4 {
             let lo = [self.min[0][slot], self.min[1][slot], self.min[2][slot]];
             let hi = [self.max[0][slot], self.max[1][slot], self.max[2][slot]];
@@ -267,24 +270,24 @@ impl Node4 {
                 if !group_active::<V>(mask, g) {
                     continue;
                 }
-                let mut t_near = V::load(&p.t_min.0, g);
+                let mut t_near = s.load(&p.t_min.0, g);
                 let mut t_far = inf;
                 for a in 0..3 {
-                    let (o, inv) = (V::load(&p.o[a].0, g), V::load(&p.inv[a].0, g));
-                    let t0 = V::splat(lo[a]).sub(o).mul(inv);
-                    let t1 = V::splat(hi[a]).sub(o).mul(inv);
+                    let (o, inv) = (s.load(&p.o[a].0, g), s.load(&p.inv[a].0, g));
+                    let t0 = s.splat(lo[a]).sub(o).mul(inv);
+                    let t1 = s.splat(hi[a]).sub(o).mul(inv);
                     t_near = t_near.max(t0.min(t1));
                     t_far = t_far.min(t0.max(t1));
                 }
-                let t_far = t_far.mul(V::splat(SLAB_WIDEN)).min(V::load(far, g));
+                let t_far = t_far.mul(s.splat(SLAB_WIDEN)).min(s.load(far, g));
                 let hit = t_near.le(t_far);
                 m |= group_bits::<V>(hit, g);
-                if NEAREST {
+                if !Q::ANY_HIT {
                     near_min = near_min.min(V::select(hit, t_near, inf));
                 }
             }
             masks[slot] = m & mask;
-            if NEAREST && masks[slot] != 0 {
+            if !Q::ANY_HIT && masks[slot] != 0 {
                 nearest[slot] = near_min.hmin();
             }
         }
@@ -299,7 +302,7 @@ impl Node4 {
 }
 
 /// A ray splatted for 4-wide box tests.
-pub struct Ray4 {
+pub(crate) struct Ray4 {
     o: [Vec4; 3],
     inv: [Vec4; 3],
     neg: [bool; 3],
@@ -323,7 +326,7 @@ impl Ray4 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::testing::{spheres, uniform};
+    use crate::testing::{spheres, uniform};
     use glam::Vec3A;
 
     /// Spheres of many sizes in clusters, by a fixed xorshift.

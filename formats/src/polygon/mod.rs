@@ -1,5 +1,9 @@
-//! Geometry of polygons shared by the reader's checks, the triangulator and
-//! the mesh converter.
+//! Geometry of polygons shared by the reader's checks, the tracer and the
+//! mesh converter: normals, projection, orientation, and triangulation.
+
+mod triangulate;
+
+pub use triangulate::triangulate;
 
 use glam::{DVec2, DVec3};
 

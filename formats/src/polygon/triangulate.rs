@@ -3,8 +3,8 @@
 //! winding is preserved. A naive fan would cover the notches of a concave
 //! polygon.
 
+use super::{newell_normal, orient, project, signed_area};
 use glam::{DVec2, DVec3};
-use nffkit_formats::polygon::{newell_normal, orient, project, signed_area};
 
 /// Triangles as index triples into `v`, wound like the polygon. Triangles of
 /// zero area are dropped. Self-intersecting outlines, which have no proper
