@@ -326,6 +326,107 @@ pub fn merge(parts: &[Part]) -> Result<Merged> {
 mod tests {
     use super::*;
 
+    /// Merge the two halves of a 4x2 image, the top rendered with default
+    /// settings and the bottom with `change` applied: the error, if any.
+    fn merge_halves(change: impl Fn(&mut RenderSettings, &mut PrepareOptions)) -> Option<String> {
+        let view = nffkit_formats::View {
+            from: glam::DVec3::new(0.0, -5.0, 0.0),
+            at: glam::DVec3::ZERO,
+            up: glam::DVec3::Z,
+            angle: 40.0,
+            hither: 0.0,
+            resolution: [4, 2],
+        };
+        let dir = tempfile::tempdir().unwrap();
+        let mut parts = Vec::new();
+        for (k, y0) in [0, 1].into_iter().enumerate() {
+            let (mut settings, mut prepare) = (RenderSettings::default(), PrepareOptions::default());
+            if k == 1 {
+                change(&mut settings, &mut prepare);
+            }
+            let size = |o: Option<u32>, d: u32| o.unwrap_or(d);
+            let camera = Camera::new(&view, size(prepare.width, 4), size(prepare.height, 2));
+            let signature = settings_signature(&settings, &prepare, &camera);
+            let window = PixelWindow { x0: 0, x1: 4, y0, y1: y0 + 1 };
+            let img = RgbImage { width: 4, height: 1, pixels: vec![[0.5; 3]; 4] };
+            let bytes = encode_part(&img, (4, 2), window, "d", &signature, &Counters::default()).unwrap();
+            let path = dir.path().join(format!("part{k}.exr"));
+            std::fs::write(&path, bytes).unwrap();
+            parts.push(read_part(&path).unwrap());
+        }
+        merge(&parts).err().map(|e| e.to_string())
+    }
+
+    /// One test per setting that changes pixels: parts differing in it are
+    /// refused, and the message names it. `TESTED` lists them, so that
+    /// [`every_pixel_setting_has_its_test`] can hold the list to the
+    /// signature's.
+    macro_rules! refused_when_parts_differ_in {
+        ($($test:ident: $name:literal => |$s:ident, $p:ident| $change:expr;)*) => {
+            mod refused_when_parts_differ_in {
+                use super::*;
+                $(
+                    #[test]
+                    #[allow(unused_variables)]
+                    fn $test() {
+                        let e = merge_halves(|$s, $p| $change)
+                            .unwrap_or_else(|| panic!("{} differs, yet merged", $name));
+                        assert!(e.contains(&format!("{} differs", $name)) && e.contains("other settings"), "{e}");
+                    }
+                )*
+            }
+            const TESTED: &[&str] = &[$($name),*];
+        };
+    }
+
+    refused_when_parts_differ_in! {
+        size: "size" => |s, p| p.width = Some(8);
+        depth: "depth" => |s, p| s.shade.max_depth = 3;
+        spp: "spp" => |s, p| s.sampler = Sampler::new(s.sampler.kind, 4, s.sampler.seed).0;
+        sampler: "sampler" => |s, p| s.sampler.kind = nffkit_tracer::sampling::SamplerKind::Sobol;
+        seed: "seed" => |s, p| s.sampler.seed = 9;
+        pixel_centre: "pixel-centre" => |s, p| s.centre_single_sample = false;
+        filter: "filter" => |s, p| s.filter = nffkit_tracer::filter::FilterKind::Tent;
+        light_size: "light-size" => |s, p| s.shade.light_size = 0.5;
+        light_shape: "light-shape" => |s, p| s.shade.light_shape = nffkit_tracer::light::LightShape::Disk;
+        min_weight: "min-weight" => |s, p| s.shade.min_weight = 0.01;
+        spd_stats: "spd-stats" => |s, p| s.shade.spd = true;
+        row_stride: "row-stride" => |s, p| s.row_stride = 2;
+        aperture: "aperture" => |s, p| p.aperture = 0.1;
+        focus: "focus" => |s, p| p.focus = Some(3.0);
+        one_sided: "one-sided" => |s, p| p.one_sided = true;
+        ambient: "ambient" => |s, p| p.ambient = nffkit_tracer::prepare::Ambient::Value(0.8);
+    }
+
+    #[test]
+    fn every_pixel_setting_has_its_test() {
+        let view = nffkit_formats::View {
+            from: glam::DVec3::Y,
+            at: glam::DVec3::ZERO,
+            up: glam::DVec3::Z,
+            angle: 40.0,
+            hither: 0.0,
+            resolution: [4, 2],
+        };
+        let camera = Camera::new(&view, 4, 2);
+        let names: Vec<&str> =
+            pixel_settings(&RenderSettings::default(), &PrepareOptions::default(), &camera)
+                .into_iter()
+                .map(|(name, _)| name)
+                .collect();
+        assert_eq!(names, TESTED);
+    }
+
+    #[test]
+    fn parts_may_differ_in_how_the_work_is_done() {
+        use nffkit_tracer::accel::{AccelKind, AccelOptions};
+        let how = |s: &mut RenderSettings, p: &mut PrepareOptions| {
+            (s.packets, s.shadow_cache, s.cost) = (false, false, true);
+            p.accel = AccelOptions { kind: AccelKind::Grid, grid_m: 3.0, mailbox: false };
+        };
+        assert_eq!(merge_halves(how), None);
+    }
+
     #[test]
     fn counters_round_trip_through_their_attribute() {
         let mut c = Counters {

@@ -207,6 +207,22 @@ fn merge_refuses_parts_that_do_not_belong_together() {
 }
 
 #[test]
+fn merge_refuses_parts_lit_differently() {
+    // Half the image brighter must not pass: the ambient light is a
+    // setting that changes pixels.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("s.nff"), SCENE).unwrap();
+    ok(&run(RENDER, d, &["s.nff", "--tile", "0/2", "-o", "t0.exr", "-q"]));
+    ok(&run(RENDER, d, &["s.nff", "--tile", "1/2", "--ambient", "0.8", "-o", "t1.exr", "-q"]));
+    let e = err(&run(NFFMERGE, d, &["t0.exr", "t1.exr", "-o", "x.png"]));
+    assert!(e.contains("ambient differs (t0.exr: ambient=0, t1.exr: ambient=0.8)"), "{e}");
+    assert!(!d.join("x.png").exists());
+    ok(&run(RENDER, d, &["s.nff", "--tile", "1/2", "--ambient", "0", "-o", "t1.exr", "-q"]));
+    ok(&run(NFFMERGE, d, &["t0.exr", "t1.exr", "-o", "x.png", "-q"]));
+}
+
+#[test]
 fn bad_part_options_get_clear_errors() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
