@@ -115,8 +115,8 @@ fn time_all(
     jobs: usize,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<Vec<Timing>> {
-    const KINDS: [AccelKind; 3] = [AccelKind::None, AccelKind::Grid, AccelKind::Bvh];
-    let cells: Vec<(usize, AccelKind)> = (0..scenes.len()).flat_map(|i| KINDS.map(|k| (i, k))).collect();
+    let cells: Vec<(usize, AccelKind)> =
+        (0..scenes.len()).flat_map(|i| AccelKind::ALL.iter().map(move |&k| (i, k))).collect();
     let one = |&(i, kind): &(usize, AccelKind)| {
         progress(&format!("{} with {kind}", CASES[i].name));
         time(&scenes[i], kind, size, cap)
@@ -141,30 +141,40 @@ pub fn table(
     jobs: usize,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<String> {
+    // A column of times per accelerator, then each one's speedup over
+    // brute force, then the ray rates.
+    let kinds = AccelKind::ALL;
+    let faster: Vec<usize> = (0..kinds.len()).filter(|&k| kinds[k] != AccelKind::None).collect();
+    let brute = kinds.iter().position(|&k| k == AccelKind::None).unwrap_or(0);
+    let titles =
+        |f: &dyn Fn(AccelKind) -> String, of: &[usize]| of.iter().map(|&k| f(kinds[k])).collect::<Vec<_>>();
+    let all: Vec<usize> = (0..kinds.len()).collect();
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "| scene | primitives | none (s) | grid (s) | BVH (s) | grid speedup | BVH speedup | Mrays/s none / grid / BVH | P3D report: none / grid (s) |"
+        "| scene | primitives | {} | {} | Mrays/s {} | P3D report: none / grid (s) |",
+        titles(&|k| format!("{} (s)", k.title()), &all).join(" | "),
+        titles(&|k| format!("{} speedup", k.title()), &faster).join(" | "),
+        titles(&|k| k.title().to_string(), &all).join(" / "),
     );
-    let _ = writeln!(out, "|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+    let _ = writeln!(out, "|---|---:|{}---:|---:|", "---:|".repeat(all.len() + faster.len()));
     let mut any_estimate = false;
     let scenes = CASES.iter().map(|c| load(c, spd_dir)).collect::<Result<Vec<_>>>()?;
     let timings = time_all(&scenes, size, cap, jobs, progress)?;
-    for ((case, scene), t) in CASES.iter().zip(&scenes).zip(timings.chunks(3)) {
-        any_estimate |= t[0].estimated;
+    for ((case, scene), t) in CASES.iter().zip(&scenes).zip(timings.chunks(kinds.len())) {
+        any_estimate |= t.iter().any(|c| c.estimated);
+        let times: Vec<String> = t.iter().map(cell).collect();
+        let speedups: Vec<String> =
+            faster.iter().map(|&k| format!("{:.1}x", t[brute].seconds / t[k].seconds)).collect();
+        let rates: Vec<String> = t.iter().map(|c| format!("{:.2}", c.mrays)).collect();
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {} | {} | {:.1}x | {:.1}x | {:.2} / {:.2} / {:.2} | {} / {} |",
+            "| {} | {} | {} | {} | {} | {} / {} |",
             case.name,
             scene.primitives.len(),
-            cell(&t[0]),
-            cell(&t[1]),
-            cell(&t[2]),
-            t[0].seconds / t[1].seconds,
-            t[0].seconds / t[2].seconds,
-            t[0].mrays,
-            t[1].mrays,
-            t[2].mrays,
+            times.join(" | "),
+            speedups.join(" | "),
+            rates.join(" / "),
             case.report_times.0,
             case.report_times.1
         );

@@ -8,9 +8,10 @@
 //! decorrelation the P3D report gets from one sampler object per purpose.
 //!
 //! The P3D report's sample sets, shuffling and `nextSample` map onto this as:
-//! a [`SampleSet`] is the whole pattern of one pixel and dimension, its
-//! shuffle is the index permutation applied per (pixel, dimension), and
-//! [`PixelSamples::next_sample`] walks a set in order.
+//! a sample set is the whole pattern of one pixel and dimension
+//! ([`Sampler::pattern`]), its shuffle is the index permutation applied per
+//! (pixel, dimension), and `nextSample` is the next index given to
+//! [`Sampler::sample_of`], without a stored table.
 
 use glam::Vec2;
 use strum::{Display, IntoStaticStr, VariantArray};
@@ -59,13 +60,13 @@ impl SamplerKind {
 
     /// Whether the pattern is built on an n×n grid.
     pub fn needs_square(self) -> bool {
-        matches!(
-            self,
+        match self {
             SamplerKind::Regular
-                | SamplerKind::Jittered
-                | SamplerKind::MultiJittered
-                | SamplerKind::CorrelatedMultiJittered
-        )
+            | SamplerKind::Jittered
+            | SamplerKind::MultiJittered
+            | SamplerKind::CorrelatedMultiJittered => true,
+            SamplerKind::Random | SamplerKind::NRooks | SamplerKind::Hammersley | SamplerKind::Sobol => false,
+        }
     }
 }
 
@@ -325,45 +326,6 @@ pub fn randfloat(mut i: u32, p: u32) -> f32 {
     to_unit(i)
 }
 
-/// The whole pattern of one pixel and dimension: the P3D report's sample set.
-#[derive(Debug, Clone)]
-pub struct SampleSet {
-    /// The points, in shuffled order.
-    pub points: Vec<Vec2>,
-}
-
-impl SampleSet {
-    /// Generate the set `sampler` uses for pixel `(px, py)`, dimension `dim`.
-    pub fn generate(sampler: &Sampler, px: u32, py: u32, dim: u32) -> SampleSet {
-        SampleSet { points: (0..sampler.spp).map(|i| sampler.sample(px, py, i, dim)).collect() }
-    }
-}
-
-/// The samples of one pixel in order: the P3D report's `nextSample`, without a
-/// stored table.
-#[derive(Debug, Clone)]
-pub struct PixelSamples<'a> {
-    sampler: &'a Sampler,
-    px: u32,
-    py: u32,
-    dim: u32,
-    next: u32,
-}
-
-impl<'a> PixelSamples<'a> {
-    /// Walk the samples of pixel `(px, py)` in dimension `dim`.
-    pub fn new(sampler: &'a Sampler, px: u32, py: u32, dim: u32) -> Self {
-        PixelSamples { sampler, px, py, dim, next: 0 }
-    }
-
-    /// The next sample, cycling after the last one.
-    pub fn next_sample(&mut self) -> Vec2 {
-        let s = self.sampler.sample(self.px, self.py, self.next, self.dim);
-        self.next = (self.next + 1) % self.sampler.spp;
-        s
-    }
-}
-
 /// Shirley and Chiu's concentric map from the unit square to the unit disc
 /// ("A Low Distortion Map Between Disk and Square", 1997): area-preserving
 /// and continuous, so stratification survives the mapping.
@@ -401,9 +363,10 @@ mod tests {
         }
     }
 
+    /// The whole pattern of pixel `(px, 3)` in dimension 0.
     fn set(kind: SamplerKind, spp: u32, px: u32) -> Vec<Vec2> {
         let (s, _) = Sampler::new(kind, spp, 7);
-        SampleSet::generate(&s, px, 3, 0).points
+        (0..s.spp).map(|i| s.sample(px, 3, i, 0)).collect()
     }
 
     #[test]
@@ -472,9 +435,10 @@ mod tests {
             for i in (0..16).rev() {
                 assert_eq!(s.sample(10, 20, i, 2), s.sample(10, 20, i, 2));
             }
-            let mut walk = PixelSamples::new(&s, 10, 20, 2);
+            // A pixel's pattern computed once gives the same samples.
+            let pattern = s.pattern(10, 20, 2);
             for i in 0..16 {
-                assert_eq!(walk.next_sample(), s.sample(10, 20, i, 2));
+                assert_eq!(s.sample_of(pattern, i), s.sample(10, 20, i, 2));
             }
         }
     }

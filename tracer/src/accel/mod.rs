@@ -204,6 +204,15 @@ pub enum AccelKind {
 impl AccelKind {
     /// Every kind (derived by strum, so a new one is not left out).
     pub const ALL: &'static [AccelKind] = <AccelKind as VariantArray>::VARIANTS;
+
+    /// The name in tables and reports (the command line's is `Display`).
+    pub fn title(self) -> &'static str {
+        match self {
+            AccelKind::None => "none",
+            AccelKind::Grid => "grid",
+            AccelKind::Bvh => "BVH",
+        }
+    }
 }
 
 /// Options for building an accelerator.
