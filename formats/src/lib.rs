@@ -23,4 +23,4 @@ pub fn plural(n: usize) -> &'static str {
     }
 }
 
-pub use scene::{Color, Light, Material, Primitive, Scene, Shape, SourceLine, View, SHAPE_KINDS, SPD_SKY};
+pub use scene::{Color, Light, Material, Primitive, Scene, Shape, ShapeKind, SourceLine, View, SPD_SKY};

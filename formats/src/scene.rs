@@ -5,6 +5,7 @@
 //! to the same value).
 
 use glam::DVec3;
+use strum::{EnumCount, IntoStaticStr, VariantArray};
 
 /// An RGB triple, nominally in [0, 1].
 pub type Color = DVec3;
@@ -128,8 +129,44 @@ pub enum Shape {
     },
 }
 
-/// The kinds of entity a scene holds, for counts and reports.
-pub const SHAPE_KINDS: [&str; 6] = ["sphere", "cone", "polygon", "patch", "plane", "box"];
+/// The kinds of [`Shape`], in declaration order, for counts and reports;
+/// [`Shape::kind`] names each shape's, so a new shape does not compile
+/// until it has a kind here.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, EnumCount, VariantArray, IntoStaticStr)]
+#[strum(serialize_all = "lowercase")]
+pub enum ShapeKind {
+    /// `s`.
+    Sphere,
+    /// `c`.
+    Cone,
+    /// `p`.
+    Polygon,
+    /// `pp`.
+    Patch,
+    /// `pl`.
+    Plane,
+    /// `aabb`.
+    Box,
+}
+
+impl ShapeKind {
+    /// The name, in the singular (`"patch"`).
+    pub fn name(self) -> &'static str {
+        self.into()
+    }
+
+    /// The name in the plural (`"patches"`).
+    pub fn plural(self) -> &'static str {
+        match self {
+            ShapeKind::Sphere => "spheres",
+            ShapeKind::Cone => "cones",
+            ShapeKind::Polygon => "polygons",
+            ShapeKind::Patch => "patches",
+            ShapeKind::Plane => "planes",
+            ShapeKind::Box => "boxes",
+        }
+    }
+}
 
 impl Shape {
     /// Axis-aligned bounds `(min, max)` of the shape; `None` for an
@@ -159,15 +196,15 @@ impl Shape {
         })
     }
 
-    /// Index of the shape's kind in [`SHAPE_KINDS`].
-    pub fn kind_index(&self) -> usize {
+    /// The shape's kind.
+    pub fn kind(&self) -> ShapeKind {
         match self {
-            Shape::Sphere { .. } => 0,
-            Shape::Cone { .. } => 1,
-            Shape::Polygon { .. } => 2,
-            Shape::Patch { .. } => 3,
-            Shape::Plane { .. } => 4,
-            Shape::Box { .. } => 5,
+            Shape::Sphere { .. } => ShapeKind::Sphere,
+            Shape::Cone { .. } => ShapeKind::Cone,
+            Shape::Polygon { .. } => ShapeKind::Polygon,
+            Shape::Patch { .. } => ShapeKind::Patch,
+            Shape::Plane { .. } => ShapeKind::Plane,
+            Shape::Box { .. } => ShapeKind::Box,
         }
     }
 }
@@ -218,12 +255,12 @@ impl Scene {
         self.primitives.iter().filter_map(|p| p.shape.bounds()).reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
     }
 
-    /// Count of primitives by kind, in the order of [`SHAPE_KINDS`]:
-    /// spheres, cones, polygons, patches, planes, boxes.
-    pub fn counts(&self) -> [usize; 6] {
-        let mut n = [0; 6];
+    /// Count of primitives by kind, indexed by [`ShapeKind`] (`n[kind as
+    /// usize]`): spheres, cones, polygons, patches, planes, boxes.
+    pub fn counts(&self) -> [usize; ShapeKind::COUNT] {
+        let mut n = [0; ShapeKind::COUNT];
         for p in &self.primitives {
-            n[p.shape.kind_index()] += 1;
+            n[p.shape.kind() as usize] += 1;
         }
         n
     }

@@ -1,8 +1,9 @@
 //! `render --check`: validate NFF files and summarise what they hold.
 
 use nffkit_formats::nff::{self, ParseOptions, Severity};
-use nffkit_formats::{plural, Scene, SHAPE_KINDS};
+use nffkit_formats::{plural, Scene, ShapeKind};
 use std::fmt::Write as _;
+use strum::VariantArray;
 
 /// The outcome of checking one file.
 pub struct CheckReport {
@@ -69,14 +70,11 @@ fn summary(name: &str, scene: &Scene, warnings: usize, notes: usize) -> String {
         plural(scene.materials.len()),
         plural(total)
     );
-    let kinds: Vec<String> = counts
+    let kinds: Vec<String> = ShapeKind::VARIANTS
         .iter()
-        .zip(SHAPE_KINDS)
-        .filter(|(n, _)| **n > 0)
-        .map(|(&n, k)| {
-            let es = (k == "patch" || k == "box") && n != 1;
-            format!("{n} {k}{}", if es { "es" } else { plural(n) })
-        })
+        .map(|&k| (k, counts[k as usize]))
+        .filter(|&(_, n)| n > 0)
+        .map(|(k, n)| format!("{n} {}", if n == 1 { k.name() } else { k.plural() }))
         .collect();
     if !kinds.is_empty() {
         let _ = write!(out, " ({})", kinds.join(", "));

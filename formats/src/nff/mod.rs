@@ -1,6 +1,7 @@
-//! The Neutral File Format: reading ([`parse`]), writing ([`write`],
-//! [`NffWriter`]) and the diagnostics that point into the source
-//! ([`Diagnostic`]).
+//! The Neutral File Format: reading ([`parse`], in `read.rs`, above the
+//! sequential reader `parse.rs` and the parallel one `parallel.rs`), writing
+//! ([`write`], [`NffWriter`]) and the diagnostics that point into the
+//! source ([`Diagnostic`]).
 //!
 //! NFF is read as a stream of whitespace-separated tokens, not lines: the SPD
 //! writes a cone on one line where the spec shows three, and real files wrap
@@ -12,9 +13,11 @@ mod lexer;
 mod number;
 mod parallel;
 mod parse;
+mod read;
 mod write;
 
 pub use diag::{Diagnostic, Severity};
 pub use parallel::parse_in_chunks;
-pub use parse::{parse, parse_sequential, ParseError, ParseOptions, Parsed};
+pub use parse::{parse_sequential, ParseError, ParseOptions, Parsed};
+pub use read::parse;
 pub use write::{format_number, write, NffWriter};

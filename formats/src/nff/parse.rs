@@ -1,4 +1,6 @@
-//! The NFF reader: tokens in, [`Scene`] plus diagnostics out.
+//! The sequential NFF reader: tokens in, [`Scene`] plus diagnostics out
+//! (the entry point, which may hand a large file to the parallel reader
+//! instead, is [`super::read`]).
 //!
 //! The reader recovers from an error by skipping to the next entity keyword
 //! or the next line that starts with a word, so one run reports every broken
@@ -71,21 +73,8 @@ impl fmt::Display for ParseError {
 
 impl std::error::Error for ParseError {}
 
-/// Read an NFF scene from bytes. Never panics, whatever the bytes. Files
-/// of several megabytes are read on every core ([`super::parse_in_chunks`]),
-/// with exactly the result and diagnostics of [`parse_sequential`].
-pub fn parse(src: &[u8], opts: &ParseOptions) -> Result<Parsed, ParseError> {
-    let body = strip_dos_eof(src);
-    if body.len() >= super::parallel::PARALLEL_MIN_BYTES && !body.starts_with(BOM) {
-        let chunks = super::parallel::default_chunks(body.len());
-        if let Some(parsed) = super::parallel::parse_in_chunks(body, opts, chunks) {
-            return Ok(parsed);
-        }
-    }
-    parse_sequential(src, opts)
-}
-
-const BOM: &[u8] = b"\xEF\xBB\xBF";
+/// A UTF-8 byte-order mark.
+pub(super) const BOM: &[u8] = b"\xEF\xBB\xBF";
 
 /// Read an NFF scene from bytes on the calling thread.
 pub fn parse_sequential(src: &[u8], opts: &ParseOptions) -> Result<Parsed, ParseError> {
@@ -137,7 +126,7 @@ pub(super) fn primitives_hint(bytes: usize) -> usize {
 
 /// The source without a DOS end-of-file byte (0x1A, Ctrl-Z) at its end, as
 /// old DOS editors and the SPD's DOS builds wrote it.
-fn strip_dos_eof(src: &[u8]) -> &[u8] {
+pub(super) fn strip_dos_eof(src: &[u8]) -> &[u8] {
     let end = src.iter().rposition(|b| !b.is_ascii_whitespace()).map_or(0, |i| i + 1);
     match src[..end].iter().rposition(|&b| b != 0x1A) {
         Some(i) if i + 1 < end => &src[..i + 1],
