@@ -40,6 +40,7 @@ mod integrator;
 mod material;
 mod math;
 mod packet;
+mod query;
 mod shadow_cache;
 #[cfg(test)]
 mod testing;

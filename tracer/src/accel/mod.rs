@@ -30,30 +30,10 @@ pub(crate) use grid::Grid;
 use crate::geometry::{Geometry, Hit};
 use crate::math::RayQuery;
 use crate::packet::{Blockers, LaneHits, PacketHits, RayPacket};
+pub(crate) use crate::query::{AnyHit, Nearest, Query};
 use crate::simd::lanes::{for_lanes, Mask};
 use crate::stats::Counters;
 use strum::{Display, IntoStaticStr, VariantArray};
-
-/// Which hit a traversal looks for.
-pub(crate) trait Query {
-    /// Any hit ends the search (a shadow ray's blocker); otherwise the
-    /// nearest is kept, ties to the lowest id.
-    const ANY_HIT: bool;
-}
-
-/// The nearest hit: eye, mirror and refracted rays.
-pub(crate) enum Nearest {}
-
-/// Any hit: shadow rays.
-pub(crate) enum AnyHit {}
-
-impl Query for Nearest {
-    const ANY_HIT: bool = false;
-}
-
-impl Query for AnyHit {
-    const ANY_HIT: bool = true;
-}
 
 /// The queries an acceleration structure answers over the bounded
 /// primitives (ids `0..geom.bounded_len()`) of its [`Tracer`]'s geometry.

@@ -23,7 +23,7 @@ pub(crate) mod surface;
 
 pub(crate) use surface::PointLanes;
 
-use crate::accel::{AnyHit, Nearest, Query};
+use crate::query::{AnyHit, Nearest, Query};
 use crate::geometry::Hit;
 use crate::math::{Ray, RayQuery};
 use crate::simd::lanes::{lane, set_lane, Lanes, Mask, LANES};

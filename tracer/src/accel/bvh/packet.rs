@@ -9,7 +9,7 @@
 
 use super::wide::{Entry, Node4};
 use super::{Bvh, Stacks};
-use crate::accel::Query;
+use crate::query::Query;
 use crate::geometry::Geometry;
 use crate::packet::prims::test_prim;
 use crate::packet::{LaneHits, RayPacket};

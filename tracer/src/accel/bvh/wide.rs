@@ -11,7 +11,7 @@
 
 use super::build::{self, Binary, BuildPrim};
 use crate::aabb::SLAB_WIDEN;
-use crate::accel::Query;
+use crate::query::Query;
 use crate::geometry::Geometry;
 use crate::math::RayQuery;
 use crate::packet::RayPacket;
