@@ -7,7 +7,9 @@
 //! `cargo run --release --bin golden -- update [NAME...]`.
 
 use nffkit_formats::image_io::RgbImage;
-use nffkit_tools::golden::{self, check_case, compare, load_catalogue, render_case, write_failure_images};
+use nffkit_tools::qa::golden::{
+    self, check_case, compare, load_catalogue, render_case, write_failure_images,
+};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 

@@ -15,22 +15,11 @@
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
-pub mod aademo;
 pub mod bench;
-pub mod check;
 pub mod cli_util;
-pub mod default_scene;
-pub mod golden;
+pub mod demo;
+pub mod gen;
 pub mod input;
-pub mod lighting;
 pub mod mesh2nff;
-pub mod metrics;
-pub mod part;
-pub mod planegen;
-pub mod render_args;
-pub mod render_cli;
-pub mod report;
-pub mod spd_published;
-pub mod sphereflake;
-pub mod table1;
-pub mod text;
+pub mod qa;
+pub mod render;

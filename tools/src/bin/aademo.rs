@@ -4,10 +4,10 @@ use anyhow::{Context, Result};
 use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
 use nffkit_formats::{atomic, image_io};
-use nffkit_tools::aademo::page::{self, FiguresSection};
-use nffkit_tools::aademo::{contact_sheet, figures, run, table, DemoConfig};
 use nffkit_tools::cli_util;
-use nffkit_tools::golden::find_scenes_dir;
+use nffkit_tools::demo::page::{self, FiguresSection};
+use nffkit_tools::demo::{contact_sheet, figures, run, table, DemoConfig};
+use nffkit_tools::qa::golden::find_scenes_dir;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -118,8 +118,8 @@ fn main_inner(a: &Args) -> Result<()> {
                     b.finish_and_clear();
                 }
                 let quiet = a.quiet;
-                let (size, cap) = nffkit_tools::table1::QUICK;
-                let table1 = nffkit_tools::table1::table(dir, size, cap, 1, &|what| {
+                let (size, cap) = nffkit_tools::bench::table1::QUICK;
+                let table1 = nffkit_tools::bench::table1::table(dir, size, cap, 1, &|what| {
                     if !quiet {
                         eprintln!("table1: timing {what}");
                     }

@@ -4,8 +4,8 @@ use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
 use nffkit_formats::image_io;
 use nffkit_tools::cli_util;
-use nffkit_tools::golden::Case;
-use nffkit_tools::golden::{
+use nffkit_tools::qa::golden::Case;
+use nffkit_tools::qa::golden::{
     check_case, compare, find_scenes_dir, html_report, load_catalogue, read_png, render_case,
 };
 use rayon::prelude::*;

@@ -8,7 +8,7 @@ use nffkit_tools::bench::{
     self, capture, embree_mrays, number_after, render_timing, write_flake, FlakeProcess,
 };
 use nffkit_tools::cli_util;
-use nffkit_tools::golden::find_scenes_dir;
+use nffkit_tools::qa::golden::find_scenes_dir;
 use nffkit_tracer::bench::{ray_rates, RayRates};
 use nffkit_tracer::prepare::{prepare, PrepareOptions};
 use std::fmt::Write as _;

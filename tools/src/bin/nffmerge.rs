@@ -3,7 +3,8 @@
 use anyhow::{Context, Result};
 use clap::Parser;
 use nffkit_formats::image_io::{self, ImageKind};
-use nffkit_tools::{cli_util, part, report};
+use nffkit_tools::cli_util;
+use nffkit_tools::render::{part, report};
 use std::path::PathBuf;
 use std::process::ExitCode;
 

@@ -4,7 +4,8 @@ use anyhow::{bail, Context, Result};
 use clap::Parser;
 use glam::{DVec2, DVec3};
 use nffkit_formats::nff::{self, ParseOptions};
-use nffkit_tools::{cli_util, input, planegen::Board};
+use nffkit_tools::gen::planegen::Board;
+use nffkit_tools::{cli_util, input};
 use std::path::PathBuf;
 use std::process::ExitCode;
 

@@ -1,8 +1,8 @@
 //! `render`: render or validate NFF scenes. See `render --help`.
 
 use clap::Parser;
-use nffkit_tools::render_args::RenderArgs;
-use nffkit_tools::render_cli::main_with;
+use nffkit_tools::render::args::RenderArgs;
+use nffkit_tools::render::cli::main_with;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {

@@ -3,7 +3,7 @@
 use anyhow::{bail, Result};
 use clap::Parser;
 use nffkit_tools::cli_util;
-use nffkit_tools::sphereflake::{sphere_count, Floor, Sphereflake};
+use nffkit_tools::gen::sphereflake::{sphere_count, Floor, Sphereflake};
 use std::path::PathBuf;
 use std::process::ExitCode;
 

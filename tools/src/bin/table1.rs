@@ -3,7 +3,7 @@
 use anyhow::{Context, Result};
 use clap::Parser;
 use nffkit_tools::cli_util;
-use nffkit_tools::golden::find_scenes_dir;
+use nffkit_tools::qa::golden::find_scenes_dir;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -44,8 +44,8 @@ fn run(a: &Args) -> Result<()> {
             find_scenes_dir(&std::env::current_dir().context("reading the current directory")?)?.join("spd")
         }
     };
-    let (size, cap) = if a.quick { nffkit_tools::table1::QUICK } else { (a.size, a.cap) };
-    let t = nffkit_tools::table1::table(&spd_dir, size, cap, a.jobs as usize, &|what| {
+    let (size, cap) = if a.quick { nffkit_tools::bench::table1::QUICK } else { (a.size, a.cap) };
+    let t = nffkit_tools::bench::table1::table(&spd_dir, size, cap, a.jobs as usize, &|what| {
         eprintln!("timing {what}")
     })?;
     print!("{t}");

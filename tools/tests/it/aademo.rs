@@ -4,7 +4,7 @@
 //! by the binary at a small size, shows every sampler, filter and figure with
 //! every image it references on disk.
 
-use nffkit_tools::aademo::{contact_sheet, convergence_svg, fitted_slope, patterns, run, table, DemoConfig};
+use nffkit_tools::demo::{contact_sheet, convergence_svg, fitted_slope, patterns, run, table, DemoConfig};
 use nffkit_tracer::filter::FilterKind;
 use nffkit_tracer::sampling::SamplerKind;
 use std::path::Path;

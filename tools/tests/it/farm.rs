@@ -3,7 +3,7 @@
 //! rendered by concurrent processes merge to the full render's bytes; merge
 //! refuses parts that do not belong together.
 
-use nffkit_tools::render_args::{render_config_from, PartSpec};
+use nffkit_tools::render::args::{render_config_from, PartSpec};
 use nffkit_tracer::film::Film;
 use nffkit_tracer::prepare::prepare;
 use nffkit_tracer::render::{render, PixelWindow};

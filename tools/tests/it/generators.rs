@@ -3,8 +3,8 @@
 
 use nffkit_formats::nff::{self, ParseOptions};
 use nffkit_formats::Shape;
-use nffkit_tools::planegen::Board;
-use nffkit_tools::sphereflake::{Floor, Sphereflake};
+use nffkit_tools::gen::planegen::Board;
+use nffkit_tools::gen::sphereflake::{Floor, Sphereflake};
 
 fn fixture(name: &str) -> nffkit_formats::Scene {
     let p = format!("{}/../scenes/spd/{name}", env!("CARGO_MANIFEST_DIR"));

@@ -23,9 +23,9 @@ pub(crate) mod surface;
 
 pub(crate) use surface::PointLanes;
 
-use crate::query::{AnyHit, Nearest, Query};
 use crate::geometry::Hit;
 use crate::math::{Ray, RayQuery};
+use crate::query::{AnyHit, Nearest, Query};
 use crate::simd::lanes::{lane, set_lane, Lanes, Mask, LANES};
 use crate::simd::vector::{group_active, group_bits, F32s, Simd};
 

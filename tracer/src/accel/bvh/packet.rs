@@ -9,10 +9,10 @@
 
 use super::wide::{Entry, Node4};
 use super::{Bvh, Stacks};
-use crate::query::Query;
 use crate::geometry::Geometry;
 use crate::packet::prims::test_prim;
 use crate::packet::{LaneHits, RayPacket};
+use crate::query::Query;
 use crate::simd::dispatch;
 use crate::simd::lanes::{for_lanes, Mask, LANES};
 use crate::simd::vector::{group_bits, F32s, Simd};

@@ -11,10 +11,10 @@
 
 use super::build::{self, Binary, BuildPrim};
 use crate::aabb::SLAB_WIDEN;
-use crate::query::Query;
 use crate::geometry::Geometry;
 use crate::math::RayQuery;
 use crate::packet::RayPacket;
+use crate::query::Query;
 use crate::simd::lanes::{Mask, LANES};
 use crate::simd::vector::{group_active, group_bits, F32s, Simd};
 use glam::Vec4;

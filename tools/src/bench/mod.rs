@@ -15,8 +15,10 @@
 //! 8/16-wide packets) on the same scenes and prints their figures beside
 //! ours. Figures are noisy on shared machines: compare columns of one run.
 
-use crate::render_args::render_config_from;
-use crate::sphereflake::{Floor, Sphereflake};
+pub mod table1;
+
+use crate::gen::sphereflake::{Floor, Sphereflake};
+use crate::render::args::render_config_from;
 use anyhow::{bail, Context, Result};
 use nffkit_formats::nff::{self, ParseOptions};
 use nffkit_formats::Scene;

@@ -4,15 +4,16 @@
 //!
 //! The comparison counts pixels that differ by more than 8/255 in some
 //! channel (catches a one-pixel shift of an edge) and takes NVIDIA's FLIP
-//! (see [`crate::metrics`]), whose mean catches a small colour change spread
+//! (see [`crate::qa::metrics`]), whose mean catches a small colour change spread
 //! over an object and whose error map shows a person where images differ.
 //! Tolerances are per case.
 
-use crate::default_scene::default_scene;
-use crate::planegen::Board;
-use crate::render_args::render_config_from;
-use crate::sphereflake::{Floor, Sphereflake};
-use crate::{input, metrics};
+use super::metrics;
+use crate::gen::default_scene::default_scene;
+use crate::gen::planegen::Board;
+use crate::gen::sphereflake::{Floor, Sphereflake};
+use crate::input;
+use crate::render::args::render_config_from;
 use anyhow::{Context, Result};
 use nffkit_formats::atomic;
 use nffkit_formats::image_io::{self, RgbImage};

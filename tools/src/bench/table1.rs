@@ -4,7 +4,7 @@
 //! time cap: past it, the time is estimated from a subset of rows and the
 //! table says so.
 
-use crate::sphereflake::{Floor, Sphereflake};
+use crate::gen::sphereflake::{Floor, Sphereflake};
 use anyhow::Result;
 use nffkit_formats::nff::ParseOptions;
 use nffkit_formats::Scene;

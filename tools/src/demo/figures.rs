@@ -2,12 +2,12 @@
 //! generators and renderer: the plane generator's checkerboard without and
 //! with 8x8 anti-aliasing, hard and soft shadows, and depth of field. Each
 //! figure is rendered from the very `render` arguments printed under it
-//! (parsed by [`crate::render_args`]), so the command on the page is the one
+//! (parsed by [`crate::render::args`]), so the command on the page is the one
 //! that made the picture.
 
-use crate::planegen::Board;
-use crate::render_args::render_config_from;
-use crate::sphereflake::{Floor, Sphereflake};
+use crate::gen::planegen::Board;
+use crate::gen::sphereflake::{Floor, Sphereflake};
+use crate::render::args::render_config_from;
 use anyhow::{Context, Result};
 use nffkit_formats::image_io::RgbImage;
 use nffkit_formats::Scene;

@@ -12,10 +12,10 @@
 pub mod figures;
 pub mod page;
 pub mod patterns;
+pub mod text;
 
-use crate::metrics;
-use crate::planegen::Board;
-use crate::text::draw_text;
+use crate::gen::planegen::Board;
+use crate::qa::metrics;
 use anyhow::Result;
 use nffkit_formats::image_io::RgbImage;
 use nffkit_tracer::film::Film;
@@ -25,6 +25,7 @@ use nffkit_tracer::render::{render, RenderSettings};
 use nffkit_tracer::sampling::{Sampler, SamplerKind};
 use rayon::prelude::*;
 use std::fmt::Write as _;
+use text::draw_text;
 
 /// What to render.
 #[derive(Debug, Clone)]

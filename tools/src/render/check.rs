@@ -26,7 +26,7 @@ pub fn check_source(name: &str, src: &[u8], opts: &ParseOptions) -> CheckReport 
             for d in &parsed.diagnostics {
                 diagnostics += &d.render(name, src);
             }
-            let unlit = crate::lighting::unlit_warning(&parsed.scene, false);
+            let unlit = crate::render::lighting::unlit_warning(&parsed.scene, false);
             if let Some(w) = &unlit {
                 diagnostics += &format!("warning: {w}\n --> {name}\n");
             }

@@ -1,10 +1,12 @@
 //! The `render` command: runs a validated [`Command`] (see
-//! [`crate::render_args`]): loading, the thread pool, the progress bar,
+//! [`crate::render::args`]): loading, the thread pool, the progress bar,
 //! writing the image and printing statistics. The work itself is done by
 //! `nffkit_tracer`; validation is done before anything here runs.
 
-use crate::render_args::{Command, RenderArgs, RenderConfig};
-use crate::{check, default_scene, input, lighting, part, report, spd_published};
+use super::{check, lighting, part, report, spd_published};
+use crate::gen::default_scene;
+use crate::input;
+use crate::render::args::{Command, RenderArgs, RenderConfig};
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use nffkit_formats::image_io::{self, ImageKind};

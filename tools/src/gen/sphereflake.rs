@@ -9,7 +9,7 @@
 //! equator 15°+120k, equator 75°+120k). A child's frame is the minimal
 //! rotation taking +Z to its direction. Output is depth-first pre-order.
 
-use crate::planegen::Board;
+use crate::gen::planegen::Board;
 use glam::{DMat3, DVec2, DVec3};
 use nffkit_formats::nff::NffWriter;
 use nffkit_formats::{Light, Material, Primitive, Scene, Shape, SourceLine, View};
