@@ -1,5 +1,6 @@
-//! Small pieces every binary shares: argument value parsers, writing output
-//! to a file (atomically) or standard output, and the exit path.
+//! Small pieces every binary shares: argument value parsers, options
+//! parsed from a list of words, writing output to a file (atomically) or
+//! standard output, and the exit path.
 
 use anyhow::{Context, Result};
 use glam::{DVec2, DVec3};
@@ -13,6 +14,21 @@ fn numbers(s: &str, n: usize) -> Result<Vec<f64>, String> {
         Ok(v) if v.len() == n && v.iter().all(|x| x.is_finite()) => Ok(v),
         _ => Err(format!("expected {n} comma-separated numbers, found `{s}`")),
     }
+}
+
+/// Options `T` (a struct deriving `clap::Args`) from `args`, as its
+/// binary's command line would give them (without the program name): how
+/// the golden catalogue states a generator's options, and how a generator's
+/// `Default` takes the defaults its flags declare.
+pub fn parse_args<T, I, S>(args: I) -> Result<T>
+where
+    T: clap::Args + clap::FromArgMatches,
+    I: IntoIterator<Item = S>,
+    S: Into<std::ffi::OsString> + Clone,
+{
+    let command = T::augment_args(clap::Command::new("options").no_binary_name(true));
+    let matches = command.try_get_matches_from(args)?;
+    Ok(T::from_arg_matches(&matches)?)
 }
 
 /// `R,G,B` or `X,Y,Z`.

@@ -128,7 +128,7 @@ impl FlakeProcess {
 
 /// Write the sphereflake at `level` (SPD's balls, 512x512) to `path`.
 pub fn write_flake(level: u32, path: &Path) -> Result<()> {
-    let flake = Sphereflake { level, resolution: [512, 512], floor: Floor::Square };
+    let flake = Sphereflake::at(level, Floor::Square);
     let file = std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?;
     let mut w = flake.write(std::io::BufWriter::new(file))?;
     std::io::Write::flush(&mut w)?;

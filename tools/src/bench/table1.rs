@@ -59,7 +59,7 @@ pub struct Timing {
 /// Load a case's scene.
 pub fn load(case: &Case, spd_dir: &Path) -> Result<Scene> {
     Ok(match case.source {
-        Source::Balls(level) => Sphereflake { level, resolution: [512, 512], floor: Floor::Square }.scene(),
+        Source::Balls(level) => Sphereflake::at(level, Floor::Square).scene(),
         Source::File(f) => crate::input::load_scene(&spd_dir.join(f), &ParseOptions::default(), true)?.scene,
     })
 }

@@ -2,7 +2,6 @@
 
 use anyhow::{bail, Context, Result};
 use clap::Parser;
-use glam::{DVec2, DVec3};
 use nffkit_formats::nff::{self, ParseOptions};
 use nffkit_tools::gen::planegen::Board;
 use nffkit_tools::{cli_util, input};
@@ -16,39 +15,8 @@ use std::process::ExitCode;
 #[derive(Parser, Debug)]
 #[command(name = "planegen", version)]
 struct Args {
-    /// Squares along x.
-    #[arg(long, default_value_t = 16)]
-    nx: u32,
-    /// Squares along y.
-    #[arg(long, default_value_t = 16)]
-    ny: u32,
-    /// Total size of the board along x.
-    #[arg(long, default_value_t = 8.0)]
-    sx: f64,
-    /// Total size of the board along y.
-    #[arg(long, default_value_t = 8.0)]
-    sy: f64,
-    /// First colour, R,G,B in [0,1] (the square at the -x,-y corner).
-    #[arg(long, value_parser = cli_util::parse_triple, default_value = "0.95,0.95,0.95")]
-    c1: DVec3,
-    /// Second colour, R,G,B in [0,1].
-    #[arg(long, value_parser = cli_util::parse_triple, default_value = "0.1,0.1,0.12")]
-    c2: DVec3,
-    /// Height of the plane (z).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-    z: f64,
-    /// Centre of the board, X,Y.
-    #[arg(long, value_parser = cli_util::parse_pair, default_value = "0,0", allow_negative_numbers = true)]
-    center: DVec2,
-    /// Diffuse weight of the squares.
-    #[arg(long, default_value_t = 1.0)]
-    kd: f64,
-    /// Specular weight of the squares.
-    #[arg(long, default_value_t = 0.0)]
-    ks: f64,
-    /// Phong exponent of the squares.
-    #[arg(long, default_value_t = 1.0)]
-    shine: f64,
+    #[command(flatten)]
+    board: Board,
     /// Add the board to this scene (keeping its view and lights) instead of
     /// writing a new scene.
     #[arg(long, value_name = "SCENE.nff")]
@@ -63,19 +31,7 @@ struct Args {
 }
 
 fn run(a: &Args) -> Result<()> {
-    let board = Board {
-        nx: a.nx,
-        ny: a.ny,
-        sx: a.sx,
-        sy: a.sy,
-        c1: a.c1,
-        c2: a.c2,
-        z: a.z,
-        center: a.center,
-        kd: a.kd,
-        ks: a.ks,
-        shine: a.shine,
-    };
+    let board = &a.board;
     board.validate()?;
     let scene = match &a.append_to {
         Some(path) => {

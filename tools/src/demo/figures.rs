@@ -37,7 +37,7 @@ impl Figure {
         if self.generator.starts_with("planegen") {
             Board { nx: 16, ny: 16, ..Default::default() }.scene()
         } else {
-            Sphereflake { level: 3, resolution: [512, 512], floor: Floor::Checker(8, 8) }.scene()
+            Sphereflake::at(3, Floor::Checker(8, 8)).scene()
         }
     }
 }

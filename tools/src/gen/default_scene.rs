@@ -6,5 +6,5 @@ use nffkit_formats::Scene;
 
 /// The built-in default scene.
 pub fn default_scene() -> Scene {
-    Sphereflake { level: 3, resolution: [512, 512], floor: Floor::Checker(12, 12) }.scene()
+    Sphereflake::at(3, Floor::Checker(12, 12)).scene()
 }

@@ -1,52 +1,56 @@
 //! The checkerboard plane (P3D report §4.3): an XY-aligned board of `p 4` squares
 //! in two colours, as a whole scene or added to an existing one.
 
+use crate::cli_util::{parse_args, parse_pair, parse_triple};
 use anyhow::{bail, Result};
 use glam::{DVec2, DVec3};
 use nffkit_formats::{Light, Material, Primitive, Scene, Shape, SourceLine, View};
 
-/// The board's parameters.
-#[derive(Debug, Clone)]
+/// The board's parameters: `planegen`'s options, declared here once (the
+/// binary and the golden catalogue parse them; `Default` is what the flags
+/// default to).
+#[derive(Debug, Clone, clap::Args)]
 pub struct Board {
     /// Squares along x.
+    #[arg(long, default_value_t = 16)]
     pub nx: u32,
     /// Squares along y.
+    #[arg(long, default_value_t = 16)]
     pub ny: u32,
-    /// Total size along x.
+    /// Total size of the board along x.
+    #[arg(long, default_value_t = 8.0)]
     pub sx: f64,
-    /// Total size along y.
+    /// Total size of the board along y.
+    #[arg(long, default_value_t = 8.0)]
     pub sy: f64,
-    /// Colour of the square at the (−x, −y) corner and every other one.
+    /// First colour, R,G,B in [0,1] (the square at the -x,-y corner and
+    /// every other one).
+    #[arg(long, value_parser = parse_triple, default_value = "0.95,0.95,0.95")]
     pub c1: DVec3,
-    /// The other colour.
+    /// Second colour, R,G,B in [0,1].
+    #[arg(long, value_parser = parse_triple, default_value = "0.1,0.1,0.12")]
     pub c2: DVec3,
-    /// Height of the plane.
+    /// Height of the plane (z).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub z: f64,
-    /// Centre of the board in x and y.
+    /// Centre of the board, X,Y.
+    #[arg(long, value_parser = parse_pair, default_value = "0,0", allow_hyphen_values = true)]
     pub center: DVec2,
     /// Diffuse weight of the squares.
+    #[arg(long, default_value_t = 1.0)]
     pub kd: f64,
-    /// Specular weight.
+    /// Specular weight of the squares.
+    #[arg(long, default_value_t = 0.0)]
     pub ks: f64,
-    /// Phong exponent.
+    /// Phong exponent of the squares.
+    #[arg(long, default_value_t = 1.0)]
     pub shine: f64,
 }
 
 impl Default for Board {
+    /// The flags' defaults.
     fn default() -> Self {
-        Board {
-            nx: 16,
-            ny: 16,
-            sx: 8.0,
-            sy: 8.0,
-            c1: DVec3::splat(0.95),
-            c2: DVec3::new(0.1, 0.1, 0.12),
-            z: 0.0,
-            center: DVec2::ZERO,
-            kd: 1.0,
-            ks: 0.0,
-            shine: 1.0,
-        }
+        parse_args(std::iter::empty::<&str>()).unwrap_or_else(|e| unreachable!("planegen's defaults: {e}"))
     }
 }
 
@@ -150,6 +154,20 @@ impl Board {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn options_parse_as_the_binary_takes_them_with_its_defaults() {
+        let d = Board::default();
+        assert_eq!(
+            (d.nx, d.ny, d.sx, d.sy, d.z, d.kd, d.ks, d.shine),
+            (16, 16, 8.0, 8.0, 0.0, 1.0, 0.0, 1.0)
+        );
+        assert_eq!((d.c1, d.c2, d.center), (DVec3::splat(0.95), DVec3::new(0.1, 0.1, 0.12), DVec2::ZERO));
+        let b: Board = parse_args(["--nx", "3", "--center", "-1,2"]).unwrap();
+        assert_eq!((b.nx, b.ny, b.center), (3, 16, DVec2::new(-1.0, 2.0)));
+        let e = parse_args::<Board, _, _>(["--nz", "3"]).unwrap_err().to_string();
+        assert!(e.contains("--nz"), "{e}");
+    }
     use nffkit_formats::nff::{self, ParseOptions};
 
     #[test]

@@ -9,7 +9,9 @@
 //! equator 15°+120k, equator 75°+120k). A child's frame is the minimal
 //! rotation taking +Z to its direction. Output is depth-first pre-order.
 
+use crate::cli_util::{parse_args, parse_resolution};
 use crate::gen::planegen::Board;
+use anyhow::{bail, Result};
 use glam::{DMat3, DVec2, DVec3};
 use nffkit_formats::nff::NffWriter;
 use nffkit_formats::{Light, Material, Primitive, Scene, Shape, SourceLine, View};
@@ -26,22 +28,36 @@ pub enum Floor {
     None,
 }
 
-/// Options of the generator.
-#[derive(Debug, Clone, Copy)]
+/// The generator's options: `sphereflake`'s, declared here once (the
+/// binary and the golden catalogue parse them; `Default` is what the flags
+/// default to).
+#[derive(Debug, Clone, Copy, clap::Args)]
 pub struct Sphereflake {
-    /// Recursion level (SPD's "size factor"): 1 + 9 + ... + 9^level spheres.
+    /// Recursion level (the SPD's size factor; its balls_s1..s4 are 1..4):
+    /// 1 + 9 + ... + 9^level spheres.
+    #[arg(long, default_value_t = 4)]
     pub level: u32,
-    /// Image size in the `v` block.
+    /// Image size in the view, W,H.
+    #[arg(long, value_parser = parse_resolution, default_value = "512,512")]
     pub resolution: [u32; 2],
-    /// The floor.
-    pub floor: Floor,
+    /// Leave out the floor.
+    #[arg(long, conflicts_with = "checker")]
+    pub no_floor: bool,
+    /// Put a checkerboard of NX,NY squares under the flake instead of the
+    /// single floor square.
+    #[arg(long, value_parser = parse_resolution, value_name = "NX,NY")]
+    pub checker: Option<[u32; 2]>,
 }
 
 impl Default for Sphereflake {
+    /// The flags' defaults.
     fn default() -> Self {
-        Sphereflake { level: 4, resolution: [512, 512], floor: Floor::Square }
+        parse_args(std::iter::empty::<&str>()).unwrap_or_else(|e| unreachable!("sphereflake's defaults: {e}"))
     }
 }
+
+/// The highest level written: level 9 is 435 million spheres.
+pub const MAX_LEVEL: u32 = 9;
 
 /// Number of spheres at `level`.
 pub fn sphere_count(level: u32) -> u64 {
@@ -114,6 +130,37 @@ pub fn sphere_material() -> Material {
 }
 
 impl Sphereflake {
+    /// The flake at `level` over `floor`, at the default resolution.
+    pub fn at(level: u32, floor: Floor) -> Sphereflake {
+        let (no_floor, checker) = match floor {
+            Floor::Square => (false, None),
+            Floor::Checker(nx, ny) => (false, Some([nx, ny])),
+            Floor::None => (true, None),
+        };
+        Sphereflake { level, no_floor, checker, ..Default::default() }
+    }
+
+    /// What goes under the flake.
+    pub fn floor(&self) -> Floor {
+        match (self.no_floor, self.checker) {
+            (true, _) => Floor::None,
+            (_, Some([nx, ny])) => Floor::Checker(nx, ny),
+            _ => Floor::Square,
+        }
+    }
+
+    /// Refuse levels past [`MAX_LEVEL`], saying how many spheres they ask.
+    pub fn validate(&self) -> Result<()> {
+        if self.level > MAX_LEVEL {
+            bail!(
+                "--level {} would write {} spheres; the limit is {MAX_LEVEL}",
+                self.level,
+                sphere_count(self.level)
+            );
+        }
+        Ok(())
+    }
+
     /// Everything before the spheres: background, view, lights and floor.
     fn header(&self) -> Scene {
         let mut scene = Scene {
@@ -132,7 +179,7 @@ impl Sphereflake {
                 .collect(),
             ..Default::default()
         };
-        match self.floor {
+        match self.floor() {
             Floor::Square => {
                 scene.materials.push(floor_material());
                 let v = [(12.0, 12.0), (-12.0, 12.0), (-12.0, -12.0), (12.0, -12.0)]

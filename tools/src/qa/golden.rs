@@ -9,9 +9,10 @@
 //! Tolerances are per case.
 
 use super::metrics;
+use crate::cli_util::parse_args;
 use crate::gen::default_scene::default_scene;
 use crate::gen::planegen::Board;
-use crate::gen::sphereflake::{Floor, Sphereflake};
+use crate::gen::sphereflake::Sphereflake;
 use crate::input;
 use crate::render::args::render_config_from;
 use anyhow::{Context, Result};
@@ -60,40 +61,22 @@ pub struct Case {
 }
 
 /// Where a case's scene comes from: exactly one of these (serde refuses a
-/// source naming none or two).
+/// source naming none or two). A generator's options are its command line
+/// (`planegen = ["--nx", "16"]`), parsed by the options struct its binary
+/// uses.
 #[derive(Debug, Deserialize, Clone)]
 #[serde(rename_all = "lowercase", deny_unknown_fields)]
 pub enum Source {
     /// The built-in default scene (`source = "default"`).
     Default,
-    /// planegen's board.
-    Planegen(PlanegenSpec),
-    /// sphereflake.
-    Sphereflake(SphereflakeSpec),
+    /// planegen's board, with `planegen` arguments.
+    Planegen(Vec<String>),
+    /// sphereflake, with `sphereflake` arguments.
+    Sphereflake(Vec<String>),
     /// A file under `scenes/`.
     File(String),
     /// A mesh under `scenes/`, converted by mesh2nff (default options).
     Mesh(String),
-}
-
-/// planegen options.
-#[derive(Debug, Deserialize, Clone)]
-#[serde(deny_unknown_fields)]
-pub struct PlanegenSpec {
-    /// Squares along x.
-    pub nx: u32,
-    /// Squares along y.
-    pub ny: u32,
-}
-
-/// sphereflake options.
-#[derive(Debug, Deserialize, Clone)]
-#[serde(deny_unknown_fields)]
-pub struct SphereflakeSpec {
-    /// Level.
-    pub level: u32,
-    /// Checkerboard floor.
-    pub checker: Option<[u32; 2]>,
 }
 
 impl Case {
@@ -130,10 +113,17 @@ pub fn load_catalogue(scenes: &Path) -> Result<Catalogue> {
 pub fn scene_of(case: &Case, scenes: &Path) -> Result<Scene> {
     Ok(match &case.source {
         Source::Default => default_scene(),
-        Source::Planegen(p) => Board { nx: p.nx, ny: p.ny, ..Default::default() }.scene(),
-        Source::Sphereflake(f) => {
-            let floor = f.checker.map_or(Floor::Square, |[x, y]| Floor::Checker(x, y));
-            Sphereflake { level: f.level, resolution: [512, 512], floor }.scene()
+        Source::Planegen(args) => {
+            let board: Board =
+                parse_args(args).with_context(|| format!("case {}: planegen options", case.name))?;
+            board.validate()?;
+            board.scene()
+        }
+        Source::Sphereflake(args) => {
+            let flake: Sphereflake =
+                parse_args(args).with_context(|| format!("case {}: sphereflake options", case.name))?;
+            flake.validate()?;
+            flake.scene()
         }
         Source::Mesh(m) => {
             let mesh = nffkit_formats::mesh::load(&scenes.join(m))?;
@@ -353,11 +343,28 @@ mod tests {
         assert!(matches!(parse("\"default\"").unwrap().case[0].source, Source::Default));
         assert!(matches!(parse("{ file = \"a.nff\" }").unwrap().case[0].source, Source::File(_)));
         assert!(matches!(
-            parse("{ planegen = { nx = 2, ny = 3 } }").unwrap().case[0].source,
-            Source::Planegen(PlanegenSpec { nx: 2, ny: 3 })
+            &parse("{ planegen = [\"--nx\", \"2\", \"--ny\", \"3\"] }").unwrap().case[0].source,
+            Source::Planegen(args) if args == &["--nx", "2", "--ny", "3"]
         ));
         for bad in ["{ file = \"a.nff\", mesh = \"b.obj\" }", "{}", "{ movie = \"x\" }", "\"file\""] {
             assert!(parse(bad).is_err(), "accepted {bad}");
+        }
+    }
+
+    #[test]
+    fn generator_options_are_checked_as_their_binaries_check_them() {
+        let scene = |source: &str| {
+            scene_of(&parse(source).unwrap().case[0], Path::new(".")).map(|s| s.primitives.len())
+        };
+        assert_eq!(scene("{ planegen = [\"--nx\", \"2\", \"--ny\", \"3\"] }").unwrap(), 6);
+        assert_eq!(scene("{ sphereflake = [\"--level\", \"1\", \"--no-floor\"] }").unwrap(), 10);
+        for (bad, says) in [
+            ("{ planegen = [\"--nx\", \"0\"] }", "--nx and --ny must be at least 1"),
+            ("{ planegen = [\"--squares\", \"2\"] }", "--squares"),
+            ("{ sphereflake = [\"--level\", \"10\"] }", "the limit is 9"),
+        ] {
+            let e = format!("{:#}", scene(bad).unwrap_err());
+            assert!(e.contains(says), "{bad}: {e}");
         }
     }
 }

@@ -38,10 +38,10 @@ fn sphereflake_matches_the_spd_sphere_for_sphere() {
 
 #[test]
 fn sphereflake_options() {
-    let s = Sphereflake { level: 1, floor: Floor::None, resolution: [64, 32] }.scene();
+    let s = Sphereflake { resolution: [64, 32], ..Sphereflake::at(1, Floor::None) }.scene();
     assert_eq!(s.primitives.len(), 10);
     assert_eq!(s.view.unwrap().resolution, [64, 32]);
-    let s = Sphereflake { level: 1, floor: Floor::Checker(4, 4), ..Default::default() }.scene();
+    let s = Sphereflake::at(1, Floor::Checker(4, 4)).scene();
     assert_eq!(s.primitives.len(), 10 + 16);
 }
 
