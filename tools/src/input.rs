@@ -6,10 +6,9 @@ use nffkit_formats::nff::{self, ParseOptions, Parsed, Severity};
 use std::io::Read;
 use std::path::Path;
 
-/// Files at least this large are memory-mapped rather than read: a read
-/// copies every byte into freshly zeroed memory: reading and parsing the
-/// 50 MB sphereflake took 112 ms read, 74 ms mapped (nffbench, best of
-/// three processes each). Smaller files gain nothing.
+/// Files at least this large are memory-mapped rather than read, which
+/// would copy every byte into freshly zeroed memory; smaller files gain
+/// nothing.
 const MAP_MIN_BYTES: u64 = 1 << 20;
 
 /// A scene file's bytes: read into memory, or mapped from the file.

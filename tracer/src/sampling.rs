@@ -286,9 +286,8 @@ pub fn permute(mut i: u32, l: u32, p: u32) -> u32 {
 }
 
 /// `(x / n, x % n)`, by shift and mask when `n` is a power of two (the
-/// usual sample counts and grid sides). A multi-jittered sample made five
-/// integer divisions; without them `Sampler::sample_of` fell from 5.5% to
-/// 4.5% of mount_s7's profile at 16 spp. `n > 0`.
+/// usual sample counts and grid sides), so that a multi-jittered sample
+/// does not wait on five integer divisions. `n > 0`.
 #[inline(always)]
 fn div_rem(x: u32, n: u32) -> (u32, u32) {
     if n.is_power_of_two() {

@@ -117,9 +117,9 @@ pub(super) fn parse_chunk(
 
 /// Room to make for the primitives of `bytes` of NFF: one per 40 bytes, the
 /// shortest an SPD line gets (`s 0.272166 0.272166 0.544331 0.166667`).
-/// Reserving up front spares a large list its copies as it doubles (with
-/// them, reading a 50 MB sphereflake peaked 80 MB higher); room never
-/// written costs address space, not memory.
+/// Reserving up front spares a large list its copies as it doubles (and
+/// the higher peak they make); room never written costs address space, not
+/// memory.
 pub(super) fn primitives_hint(bytes: usize) -> usize {
     bytes / 40
 }

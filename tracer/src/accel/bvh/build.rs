@@ -3,8 +3,7 @@
 //! root). It decides the binary tree one node at a time ([`Binary`]) and
 //! stores none of it: [`super::wide`] opens binary nodes straight into its
 //! 4-wide nodes, so no binary node array is written, copied and collapsed
-//! (on the 600,000-sphere sphereflake that took the process's peak memory
-//! from 228 MB to 200 MB).
+//! (a large scene's peak memory is the smaller for it).
 //!
 //! A node's primitives are a range of the [`BuildPrim`] array; splitting
 //! it partitions that range in place, so the leaves end up as ranges too,
@@ -25,10 +24,9 @@ const BINS: usize = 16;
 const MIN_BINS: usize = 4;
 
 /// Bins for a node of `n` primitives: 4, 8 or 16 by its size. A small
-/// node gains nothing from 16 bins, and with half a million spheres there
-/// are 300,000 small nodes, each setting up and sweeping its bins; sizing
-/// the arrays to the count ([`split_with`] is compiled for each) took about
-/// 7% off the sphereflake's build.
+/// node gains nothing from 16 bins, and a large scene has hundreds of
+/// thousands of small nodes, each setting up and sweeping its bins
+/// ([`split_with`] is compiled for each count).
 #[inline]
 fn bin_count(n: usize) -> usize {
     (n / 2).clamp(MIN_BINS, BINS).next_power_of_two().min(BINS)
@@ -40,8 +38,7 @@ const TRAVERSAL_COST: f32 = 1.0;
 
 /// A primitive's box and its id: 32 bytes, aligned so that moving one is
 /// two aligned 16-byte copies (the partition swaps one per primitive per
-/// level; at 28 bytes the swap went through overlapping stack copies that
-/// defeated store forwarding: 18% of the split function's samples).
+/// level, and unaligned copies defeat store forwarding).
 #[derive(Clone, Copy)]
 #[repr(C, align(16))]
 pub(super) struct BuildPrim {
@@ -188,13 +185,10 @@ fn sah_split(prims: &mut [BuildPrim], boxes: &Boxes) -> Option<Split> {
 }
 
 /// Whether `prims` are at most [`MAX_LEAF`] spheres, which stay one leaf
-/// whatever the SAH says. Its cost model (a box step costs what a
-/// primitive test does) splits almost every such group, yet on the
-/// sphereflake and balls_s4 (1 and 16 spp) and in eye-ray throughput the
-/// renders took the same time with leaves of up to 4 spheres as with the
-/// SAH's, while the 600,000-sphere sphereflake's BVH built in 123-124 ms
-/// instead of 143-146 (best of 5, three runs side by side). Triangles keep the SAH's choice: forced
-/// leaves of four cost mount_s7 8% of its eye-ray throughput.
+/// whatever the SAH says: its cost model (a box step costs what a
+/// primitive test does) splits almost every such group, for no faster
+/// render and a slower build. Triangles keep the SAH's choice: forced
+/// leaves cost them traversal speed.
 #[inline]
 fn small_sphere_leaf(prims: &[BuildPrim]) -> bool {
     prims.len() <= MAX_LEAF && prims.iter().all(|p| p.sphere != 0)
@@ -268,9 +262,8 @@ fn bin_frame<const NB: usize>(cb: &Aabb) -> (Vec3A, Vec3A) {
 /// The bins of a centroid on all three axes: `(c - lo) * scale` rounded
 /// down (a tie at an exact bin edge may go either way; binning and
 /// partitioning both use [`rounded_bins`], so they always agree). Clamped
-/// in floating point and turned into integers by [`ROUNDER`], a few vector
-/// instructions where three saturating casts and clamps were (10-15% off
-/// the sphereflake's build).
+/// in floating point and turned into integers by [`ROUNDER`]: a few vector
+/// instructions, not three saturating casts and clamps.
 #[inline(always)]
 fn bin_indices<const NB: usize>(c: Vec3A, lo: Vec3A, scale: Vec3A) -> [usize; 3] {
     let r = rounded_bins::<NB>(c, lo, scale).to_array();
@@ -288,8 +281,7 @@ fn rounded_bins<const NB: usize>(c: Vec3A, lo: Vec3A, scale: Vec3A) -> Vec3A {
 
 /// Whether a centroid's bin on `axis` is at most `bin` (`bin < NB − 1`): the
 /// comparison made on the rounded floats, lane by lane, so the axis is
-/// picked from a mask instead of from an array on the stack (reading that
-/// array back was a tenth of the partition's time).
+/// picked from a mask (not read back from an array on the stack).
 #[inline(always)]
 fn goes_left<const NB: usize>(c: Vec3A, lo: Vec3A, scale: Vec3A, axis: usize, bin: usize) -> bool {
     let at_most = rounded_bins::<NB>(c, lo, scale).cmple(Vec3A::splat(bin as f32 + ROUNDER));
@@ -346,8 +338,7 @@ fn boxes_of(prims: &[BuildPrim]) -> Boxes {
 /// elements satisfying it and the centroid bounds of both parts.
 /// Branch-free (every element is swapped, the count advances by the
 /// predicate, the bounds grow by selection): the predicate is a coin toss
-/// for a good split, and mispredicted branches were most of the build's
-/// time.
+/// for a good split, which a branch would mispredict half the time.
 fn partition(v: &mut [BuildPrim], pred: impl Fn(Vec3A) -> bool) -> (usize, Aabb, Aabb) {
     let (mut left, mut right) = (Aabb::EMPTY, Aabb::EMPTY);
     let mut i = 0;
