@@ -6,7 +6,7 @@ use libfuzzer_sys::fuzz_target;
 use nffkit_formats::nff::{self, ParseOptions};
 
 fuzz_target!(|data: &[u8]| {
-    for opts in [ParseOptions::default(), ParseOptions { lenient: true, fragment: true }] {
+    for opts in [ParseOptions::default(), ParseOptions { lenient: true, fragment: true, ..Default::default() }] {
         if let Ok(parsed) = nff::parse(data, &opts) {
             let text = nff::write(&parsed.scene, Vec::new()).expect("writing to memory");
             let again = nff::parse(&text, &ParseOptions { fragment: true, ..opts }).expect("written text parses");

@@ -59,8 +59,8 @@ pub struct RenderArgs {
     /// SPD test procedure: one eye ray through each pixel corner ((w+1)x(h+1)
     /// rays, each pixel the mean of its four corners), depth 5, with
     /// statistics, so counts compare with those the SPD publishes.
-    #[arg(long)]
-    pub spd_stats: bool,
+    #[arg(long = "spd-stats")]
+    pub spd: bool,
     /// Adaptive depth control: skip reflected and refracted rays whose
     /// weight (product of Ks and T along the path) is below this; 0 (the
     /// default) traces every ray, as classic NFF renderers do. POV-Ray's
@@ -286,7 +286,7 @@ impl RenderArgs {
         }
         let output = self.output_path();
         let output_kind = ImageKind::from_path(&output)?;
-        if self.spd_stats && self.part().is_some() {
+        if self.spd && self.part().is_some() {
             bail!("--spd-stats traces pixel corners over the whole image; it takes no --crop, --pixel-bounds or --tile");
         }
         if let Some(cost) = &self.aov_cost {
@@ -301,11 +301,11 @@ impl RenderArgs {
             centre_single_sample: self.sampler.is_none(),
             filter: self.filter,
             shade: ShadeSettings {
-                max_depth: if self.spd_stats { 5 } else { self.depth },
+                max_depth: if self.spd { 5 } else { self.depth },
                 light_size: self.light_size,
                 light_shape: self.light_shape,
-                min_weight: if self.spd_stats { 0.0 } else { self.min_weight },
-                spd: self.spd_stats,
+                min_weight: if self.spd { 0.0 } else { self.min_weight },
+                spd: self.spd,
             },
             cost: self.aov_cost.is_some(),
             shadow_cache: !self.no_shadow_cache,
@@ -332,7 +332,7 @@ impl RenderArgs {
             threads: self.threads.unwrap_or(0) as usize,
             srgb: self.srgb,
             aov_cost: self.aov_cost.clone(),
-            stats: self.stats || self.spd_stats,
+            stats: self.stats || self.spd,
             quiet: self.quiet,
             notes: note.into_iter().map(|m| format!("--spp: {m}")).collect(),
             part: self.part(),

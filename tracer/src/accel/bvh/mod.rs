@@ -84,8 +84,7 @@ impl Intersector for Bvh {
     }
 
     fn trace_packet_bounded<H: LaneHits>(tr: &mut Tracer<'_, Self>, p: &RayPacket, mask: Mask, hits: &mut H) {
-        let isa = crate::simd::isa();
-        tr.accel.trace_packet_with(isa, tr.geom, p, mask, hits, &mut tr.scratch, &mut tr.counters);
+        Bvh::trace_packet_with(crate::simd::isa(), tr, p, mask, hits);
     }
 }
 

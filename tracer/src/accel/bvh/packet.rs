@@ -9,7 +9,7 @@
 
 use super::wide::{Entry, Node4};
 use super::{Bvh, Stacks};
-use crate::geometry::Geometry;
+use crate::accel::Tracer;
 use crate::packet::prims::test_prim;
 use crate::packet::{LaneHits, RayPacket};
 use crate::query::Query;
@@ -17,7 +17,6 @@ use crate::simd::dispatch;
 use crate::simd::lanes::{for_lanes, Mask, LANES};
 use crate::simd::vector::{group_bits, F32s, Simd};
 use crate::simd::Isa;
-use crate::stats::Counters;
 
 /// A node reached by this many lanes or fewer is finished ray by ray
 /// (Benthin, Wald, Woop, Ernst and Mark, "Combining Single and Packet-Ray
@@ -39,18 +38,14 @@ impl Bvh {
     /// [`crate::accel::Intersector::trace_packet_bounded`] with the kernels
     /// built for `isa` (which falls back to the portable build where
     /// unsupported).
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn trace_packet_with<H: LaneHits>(
-        &self,
         isa: Isa,
-        geom: &Geometry,
+        tr: &mut Tracer<'_, Bvh>,
         p: &RayPacket,
         mask: Mask,
         hits: &mut H,
-        stacks: &mut Stacks,
-        c: &mut Counters,
     ) {
-        traverse_with(isa, self, geom, p, mask, hits, stacks, c);
+        traverse_with(isa, tr, p, mask, hits);
     }
 
     /// Push the children of `node` hit by some lane, given per child slot
@@ -99,24 +94,21 @@ impl Bvh {
 /// nearest hits or the first blockers among the bounded primitives, taken
 /// into `hits`.
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
 fn traverse<V: F32s, H: LaneHits>(
     s: Simd<V>,
-    bvh: &Bvh,
-    geom: &Geometry,
+    tr: &mut Tracer<'_, Bvh>,
     p: &RayPacket,
     mask: Mask,
     hits: &mut H,
-    stacks: &mut Stacks,
-    c: &mut Counters,
 ) {
     let any_hit = <H::Query as Query>::ANY_HIT;
+    let Tracer { accel: bvh, geom, scratch: Stacks { single, packet: stack }, counters: c } = tr;
+    let (bvh, geom) = (*bvh, *geom);
     // Lanes still looking: an any-hit lane stops at its first blocker.
     let mut open = mask & p.active;
     if bvh.wide.is_empty() || open == 0 {
         return;
     }
-    let Stacks { single, packet: stack } = stacks;
     stack[0] = PacketEntry { entry: Entry { child: 0, count: 0, t: f32::NEG_INFINITY }, mask: open };
     let mut sp = 1;
     while sp > 0 {
@@ -170,24 +162,16 @@ fn traverse<V: F32s, H: LaneHits>(
 
 dispatch! {
     /// [`traverse`] compiled for `isa`.
-    fn traverse_with<H: LaneHits>(
-        isa: Isa,
-        bvh: &Bvh,
-        geom: &Geometry,
-        p: &RayPacket,
-        mask: Mask,
-        hits: &mut H,
-        stacks: &mut Stacks,
-        c: &mut Counters,
-    ) {
-        |s| traverse(s, bvh, geom, p, mask, hits, stacks, c)
+    fn traverse_with<H: LaneHits>(isa: Isa, tr: &mut Tracer<'_, Bvh>, p: &RayPacket, mask: Mask, hits: &mut H) {
+        |s| traverse(s, tr, p, mask, hits)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accel::{AnyHit, Grid, Intersector, Nearest, Tracer};
+    use crate::accel::{AnyHit, Grid, Intersector, Nearest};
+    use crate::geometry::Geometry;
     use crate::packet::{Blockers, PacketHits, NO_PRIM};
     use crate::testing::{check_surfaces, random_scene, rays};
     use proptest::prelude::*;
@@ -197,9 +181,9 @@ mod tests {
     fn check(g: &Geometry, bvh: &Bvh, p: &RayPacket, isa: Isa) {
         let mut tr = Tracer::new(bvh, g);
         let mut hits = PacketHits::new(p);
-        bvh.trace_packet_with(isa, g, p, p.active, &mut hits, &mut tr.scratch, &mut tr.counters);
+        Bvh::trace_packet_with(isa, &mut tr, p, p.active, &mut hits);
         let mut blockers = Blockers::new();
-        bvh.trace_packet_with(isa, g, p, p.active, &mut blockers, &mut tr.scratch, &mut tr.counters);
+        Bvh::trace_packet_with(isa, &mut tr, p, p.active, &mut blockers);
         for i in 0..LANES {
             let q = p.query(i);
             let t_max = p.t_max.0[i];
@@ -283,11 +267,10 @@ mod tests {
             let base = ([a.sin() * 9.0, a.cos() * 9.0, (a * 0.3).sin() * 3.0], [-a.sin(), -a.cos(), 0.1]);
             let p = rays(&g, &bvh, base, 0.3, &jitter, 0xffff);
             let mut portable = PacketHits::new(&p);
-            let (s, c) = (&mut tr.scratch, &mut tr.counters);
-            bvh.trace_packet_with(Isa::Portable, &g, &p, p.active, &mut portable, s, c);
+            Bvh::trace_packet_with(Isa::Portable, &mut tr, &p, p.active, &mut portable);
             for &isa in &available {
                 let mut hits = PacketHits::new(&p);
-                bvh.trace_packet_with(isa, &g, &p, p.active, &mut hits, s, c);
+                Bvh::trace_packet_with(isa, &mut tr, &p, p.active, &mut hits);
                 for i in 0..LANES {
                     assert_eq!(hits.get(i), portable.get(i), "{isa} lane {i} of packet {k}");
                 }
