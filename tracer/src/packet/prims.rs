@@ -31,30 +31,36 @@ pub(crate) fn test_prim<V: F32s, H: LaneHits>(
     let (kind, index) = geom.locate(id);
     c.tests[kind] += u64::from(mask.count_ones());
     let cull = if geom.any_cull { geom.info[id as usize].cull } else { Cull::None };
-    let (found, slow) = match kind {
+    match kind {
         Kind::Sphere => {
             let mut t = [0.0f32; LANES];
             let found = mask & sphere_lanes(s, &geom.spheres[index], p, mask, hits.limit(p), cull, &mut t);
             for_lanes(found, |i| hits.take(i, Hit { t: t[i], prim: id, u: 0.0, v: 0.0 }));
-            (found, 0)
+            found
         }
         Kind::Triangle if p.shared_k.is_some() => {
             let mut out = TriangleLanes::default();
             triangle_lanes(s, &geom.triangles[index], p, mask, hits.limit(p), cull, &mut out);
             let found = mask & out.found;
             for_lanes(found, |i| hits.take(i, Hit { t: out.t[i], prim: id, u: out.u[i], v: out.v[i] }));
-            (found, mask & out.slow)
+            found | by_ray(geom, id, p, mask & out.slow, hits)
         }
-        _ => (0, mask),
-    };
-    let mut by_ray = 0;
-    for_lanes(slow, |i| {
+        _ => by_ray(geom, id, p, mask, hits),
+    }
+}
+
+/// The lanes of `mask` tested ray by ray with the single-ray test, as
+/// [`test_prim`] takes them.
+#[inline(always)]
+fn by_ray<H: LaneHits>(geom: &Geometry, id: u32, p: &RayPacket, mask: Mask, hits: &mut H) -> Mask {
+    let mut found = 0;
+    for_lanes(mask, |i| {
         if let Some(h) = geom.intersect(id, &p.query(i), hits.limit(p)[i]) {
             hits.take(i, h);
-            by_ray |= 1 << i;
+            found |= 1 << i;
         }
     });
-    found | by_ray
+    found
 }
 
 crate::simd::dispatch! {

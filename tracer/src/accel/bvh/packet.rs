@@ -55,11 +55,11 @@ impl Bvh {
     #[inline(always)]
     fn push_children<Q: Query>(
         node: &Node4,
-        hit: ([Mask; 4], [f32; 4]),
+        masks: &[Mask; 4],
+        near: &[f32; 4],
         stack: &mut [PacketEntry],
         sp: &mut usize,
     ) {
-        let (masks, near) = hit;
         if Q::ANY_HIT {
             for (slot, &mask) in masks.iter().enumerate() {
                 if mask != 0 {
@@ -151,8 +151,8 @@ fn traverse<V: F32s, H: LaneHits>(
         } else {
             c.visits += 1;
             let node = &bvh.wide[e.child as usize];
-            let hit = node.hit_packet::<V, H::Query>(s, p, hits.far(p), mask);
-            Bvh::push_children::<H::Query>(node, hit, stack, &mut sp);
+            let (masks, near) = node.hit_packet::<V, H::Query>(s, p, hits.far(p), mask);
+            Bvh::push_children::<H::Query>(node, &masks, &near, stack, &mut sp);
         }
         if any_hit && open == 0 {
             return;
