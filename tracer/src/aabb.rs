@@ -17,6 +17,15 @@ pub struct Aabb {
 /// missed because of rounding and every accelerator finds the same hits.
 pub const SLAB_WIDEN: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
 
+/// How far past a ray's best hit (or its end) a box's computed entry may
+/// lie and the box still be entered. When the hit lies on the box's face
+/// the entry and the hit are two roundings of one distance, so a box holding
+/// a primitive tied with the best hit (two polygons meeting at an edge) or
+/// blocking a shadow ray at its very end may come out a few ulps beyond;
+/// culling only past this margin lets every accelerator find what brute
+/// force finds.
+pub const ENTRY_SLACK: f32 = SLAB_WIDEN * SLAB_WIDEN;
+
 impl Aabb {
     /// The empty box: a union with it changes nothing.
     pub const EMPTY: Aabb = Aabb { min: Vec3A::splat(f32::INFINITY), max: Vec3A::splat(f32::NEG_INFINITY) };

@@ -9,7 +9,7 @@
 //! separate [`Geometry::surface`] that builds normals only for the final hit.
 
 use crate::aabb::Aabb;
-use crate::math::RayQuery;
+use crate::math::{max_of, triangle_t_error, RayQuery};
 use glam::Vec3A;
 use strum::{EnumCount, IntoStaticStr, VariantArray};
 
@@ -409,6 +409,11 @@ pub(crate) fn intersect_triangle(
         return None;
     }
     let inv = 1.0 / det;
+    let max = |p: f32, q: f32, r: f32| max_of(max_of(p.abs(), q.abs()), r.abs());
+    let (max_x, max_y, max_z) = (max(ax, bx, cx), max(ay, by, cy), max(az, bz, cz));
+    if t <= triangle_t_error(max_x, max_y, max_z, max(u, v, w), inv) {
+        return None;
+    }
     Some((t, v * inv, w * inv))
 }
 

@@ -83,6 +83,40 @@ impl RayQuery {
     }
 }
 
+/// γₙ = nε/(1 − nε), with ε half the f32 machine epsilon: the bound on the
+/// relative rounding error of n floating-point operations (Higham; pbrt-v4
+/// section 6.8.1).
+pub(crate) const fn gamma(n: u32) -> f32 {
+    let e = f32::EPSILON * 0.5;
+    n as f32 * e / (1.0 - n as f32 * e)
+}
+
+/// `a > b ? a : b`: the comparison the lane-wise kernels' `max` makes, so a
+/// scalar bound and its lane-wise twin agree bit for bit.
+#[inline(always)]
+pub(crate) fn max_of(a: f32, b: f32) -> f32 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// The bound of pbrt-v4 (section 6.8.4) on the rounding error of the
+/// watertight triangle test's distance: from the largest sheared vertex
+/// coordinates (`max_x`, `max_y`, and `max_z` already scaled by Sz), the
+/// largest edge function `max_e`, and 1/det. A hit nearer than this may lie
+/// behind the origin: a ray leaving a large polygon from (nearly) its own
+/// plane would otherwise find that polygon again.
+#[inline(always)]
+pub(crate) fn triangle_t_error(max_x: f32, max_y: f32, max_z: f32, max_e: f32, inv_det: f32) -> f32 {
+    let delta_z = gamma(3) * max_z;
+    let delta_x = gamma(5) * (max_x + max_z);
+    let delta_y = gamma(5) * (max_y + max_z);
+    let delta_e = 2.0 * (gamma(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    3.0 * (gamma(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * inv_det.abs()
+}
+
 /// An orthonormal basis around a unit vector `n` (Duff et al., "Building an
 /// Orthonormal Basis, Revisited", JCGT 2017).
 #[inline]

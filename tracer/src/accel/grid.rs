@@ -16,7 +16,7 @@
 //!   ([`Mailbox`], the intersector's scratch), never to the shared grid.
 
 use super::{test_prim, AccelInfo, Intersector, Query, Tracer};
-use crate::aabb::Aabb;
+use crate::aabb::{Aabb, ENTRY_SLACK};
 use crate::geometry::{Geometry, Hit};
 use crate::math::RayQuery;
 use crate::stats::Counters;
@@ -198,7 +198,7 @@ impl Grid {
     /// within `(q.t_min, t_max)`, in order, until `visit` returns false.
     #[inline]
     pub fn walk(&self, q: &RayQuery, t_max: f32, mut visit: impl FnMut(usize, f32) -> bool) {
-        let Some((t0, t1)) = self.bounds.hit(q, q.t_min, t_max) else { return };
+        let Some((t0, t1)) = self.bounds.hit(q, q.t_min, t_max * ENTRY_SLACK) else { return };
         let (o, d) = (q.ray.o, q.ray.d);
         let mut cell = self.world_to_cell(o + d * t0);
         let mut next = [f32::INFINITY; 3];
@@ -279,8 +279,9 @@ impl Intersector for Grid {
             // Any hit stops the walk at once.
             Some(id) => !test_prim::<Q>(geom, id, q, &mut best, t_max, c),
             // At the end of a cell: the nearest hit stops the walk once it
-            // lies within the cell, as no later cell can hold a nearer one.
-            None => Q::ANY_HIT || !best.is_some_and(|h| h.t <= t_exit),
+            // lies within the cell (by a margin: a tied primitive may start
+            // only in the next), as no later cell can hold a nearer one.
+            None => Q::ANY_HIT || !best.is_some_and(|h| h.t * ENTRY_SLACK <= t_exit),
         });
         best
     }

@@ -58,6 +58,89 @@ proptest! {
     }
 }
 
+/// Axis-aligned walls through the origin (and at 0.5), as in a Cornell box
+/// modelled from the origin, with a few random primitives: the case where
+/// a ray leaving a wall starts within rounding of the wall's plane.
+fn walls_through_the_origin(seed: u64) -> Geometry {
+    use nffkit_formats::{Primitive, Scene, Shape, SourceLine};
+    let mut rnd = crate::testing::uniform(seed);
+    let mut scene = Scene::default();
+    let s = 550.0;
+    let quads: [[[f64; 3]; 4]; 5] = [
+        [[0.0, 0.0, s], [0.0, 0.0, 0.0], [0.0, s, 0.0], [0.0, s, s]],
+        [[0.0, 0.0, 0.0], [s, 0.0, 0.0], [s, 0.0, s], [0.0, 0.0, s]],
+        [[0.0, 0.0, s], [s, 0.0, s], [s, s, s], [0.0, s, s]],
+        [[0.0, s, 0.0], [s, s, 0.0], [s, s, s], [0.0, s, s]],
+        [[0.5, 100.0, 100.0], [0.5, 200.0, 100.0], [0.5, 200.0, 300.0], [0.5, 100.0, 300.0]],
+    ];
+    for q in quads {
+        let vertices = q.iter().map(|v| glam::DVec3::from(*v)).collect();
+        scene.primitives.push(Primitive {
+            shape: Shape::Polygon { vertices },
+            material: None,
+            line: SourceLine(0),
+        });
+    }
+    for _ in 0..20 {
+        let c = glam::DVec3::new(rnd() as f64, rnd() as f64, rnd() as f64) * s;
+        scene.primitives.push(Primitive {
+            shape: Shape::Sphere { center: c, radius: 5.0 + rnd() as f64 * 40.0 },
+            material: None,
+            line: SourceLine(0),
+        });
+    }
+    let m = crate::material::WhittedMaterial {
+        color: Vec3A::ONE,
+        kd: 1.0,
+        ks: 0.0,
+        shine: 1.0,
+        t: 0.0,
+        ior: 1.0,
+    };
+    crate::prepare::build_geometry(&scene, &[m], false)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// Rays from inside the box hit the walls; shadow rays leave the hit
+    /// points (offset as the shader offsets them) toward lights near a
+    /// wall's plane, in it, and anywhere: every accelerator answers alike.
+    #[test]
+    fn shadow_rays_leaving_walls_through_the_origin_agree(
+        seed in any::<u64>(),
+        eyes in prop::collection::vec((prop::array::uniform3(1.0f32..549.0), prop::array::uniform3(-1.0f32..1.0)), 30),
+        lights in prop::collection::vec((0usize..3, prop::sample::select(vec![0.0f32, 1e-6, 1e-3, 0.5, 1.0, 549.0, 549.9, 550.0]), prop::array::uniform3(1.0f32..549.0)), 6),
+    ) {
+        let g = walls_through_the_origin(seed);
+        let reference = Accel::build(&g, &AccelOptions { kind: AccelKind::None, ..Default::default() });
+        let all = every_accelerator(&g, 2.0);
+        for (o, d) in eyes {
+            let Some(q) = query(o, d) else { continue };
+            let want = answers(&g, &reference, &q);
+            for (opts, accel) in &all {
+                prop_assert_eq!(answers(&g, accel, &q), want, "eye ray, {:?}", opts);
+            }
+            let Some(hit) = want.0 else { continue };
+            let s = g.surface(&hit, &q);
+            let n = if s.ng.dot(q.ray.d) < 0.0 { s.ng } else { -s.ng };
+            for &(axis, at, p) in &lights {
+                // A light in (or near) a wall's plane: its coordinate on `axis`.
+                let mut light = Vec3A::from(p);
+                light[axis] = at;
+                let side = if n.dot(light - s.p) >= 0.0 { n } else { -n };
+                let Some((ray, max)) = crate::math::shadow_ray(s.p, light, side) else { continue };
+                let sq = RayQuery::new(ray, 0.0);
+                let blocked = |accel: &Accel| with_accel!(accel, a => Tracer::new(a, &g).occluded(&sq, max));
+                let want = blocked(&reference);
+                for (opts, accel) in &all {
+                    prop_assert_eq!(blocked(accel), want, "shadow ray to {:?}, {:?}", light, opts);
+                }
+            }
+        }
+    }
+}
+
 #[test]
 fn mailboxes_save_tests_without_changing_hits() {
     let g = random_scene(7, 400, false);

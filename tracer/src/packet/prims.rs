@@ -9,6 +9,7 @@
 
 use super::{Blockers, LaneHits, RayPacket};
 use crate::geometry::{Cull, Geometry, Hit, Kind, Sphere, Triangle};
+use crate::math::gamma;
 use crate::simd::lanes::{for_lanes, Mask, LANES};
 use crate::simd::vector::{group_active, group_bits, F32s, Simd};
 use crate::stats::Counters;
@@ -121,6 +122,20 @@ fn sphere_lanes<V: F32s>(
     found
 }
 
+/// [`crate::math::triangle_t_error`] on vectors of lanes, operation for
+/// operation.
+#[inline(always)]
+fn triangle_t_error_lanes<V: F32s>(s: Simd<V>, max_x: V, max_y: V, max_z: V, max_e: V, inv_det: V) -> V {
+    let delta_z = s.splat(gamma(3)).mul(max_z);
+    let delta_x = s.splat(gamma(5)).mul(max_x.add(max_z));
+    let delta_y = s.splat(gamma(5)).mul(max_y.add(max_z));
+    let delta_e = s
+        .splat(2.0)
+        .mul(s.splat(gamma(2)).mul(max_x).mul(max_y).add(delta_y.mul(max_x)).add(delta_x.mul(max_y)));
+    let sum = s.splat(gamma(3)).mul(max_e).mul(max_z).add(delta_e.mul(max_z)).add(delta_z.mul(max_e));
+    s.splat(3.0).mul(sum).mul(inv_det.copysign(s.splat(0.0)))
+}
+
 /// Lane-wise results of [`triangle_lanes`].
 #[derive(Default)]
 struct TriangleLanes {
@@ -188,8 +203,21 @@ fn triangle_lanes<V: F32s>(
             Cull::Front => !V::bits(zero.lt(det)),
         };
         let nonzero = !V::bits(det.eq(zero));
-        let bits = V::bits(inside) & !V::bits(V::and(any_neg, any_pos)) & nonzero & facing & !V::bits(edge);
-        out.found |= (bits & ((1 << V::W) - 1)) << (g * V::W);
+        let mut bits =
+            V::bits(inside) & !V::bits(V::and(any_neg, any_pos)) & nonzero & facing & !V::bits(edge);
+        bits &= (1 << V::W) - 1;
+        if bits != 0 {
+            // [`crate::math::triangle_t_error`], lane-wise: t beyond its
+            // rounding error. (Only for groups with a candidate hit.)
+            let (az, bz, cz) = (sz.mul(a_z), sz.mul(b_z), sz.mul(c_z));
+            let max_x = ax.copysign(zero).max(bx.copysign(zero)).max(cx.copysign(zero));
+            let max_y = ay.copysign(zero).max(by.copysign(zero)).max(cy.copysign(zero));
+            let max_z = az.copysign(zero).max(bz.copysign(zero)).max(cz.copysign(zero));
+            let max_e = u.copysign(zero).max(v.copysign(zero)).max(w.copysign(zero));
+            let delta_t = triangle_t_error_lanes(s, max_x, max_y, max_z, max_e, inv);
+            bits &= !V::bits(t.le(delta_t));
+        }
+        out.found |= bits << (g * V::W);
         out.slow |= group_bits::<V>(edge, g);
     }
 }

@@ -8,6 +8,7 @@ mod packet;
 mod wide;
 
 use super::{test_prim, AccelInfo, Intersector, Query, Tracer};
+use crate::aabb::ENTRY_SLACK;
 use crate::geometry::{Geometry, Hit};
 use crate::math::RayQuery;
 use crate::packet::{LaneHits, RayPacket};
@@ -112,8 +113,9 @@ impl Bvh {
         let stack = &mut stack[..STACK];
         let (mut e, mut sp) = (start, 0);
         loop {
-            let limit = if Q::ANY_HIT { t_max } else { best.map_or(t_max, |h| h.t) };
-            // (A nearest-hit entry farther than the best hit: skipped.)
+            // Boxes are entered up to a margin past the best hit or the end.
+            let limit = if Q::ANY_HIT { t_max } else { best.map_or(t_max, |h| h.t) } * ENTRY_SLACK;
+            // (A nearest-hit entry farther than that: skipped.)
             if Q::ANY_HIT || e.t <= limit {
                 if e.count > 0 {
                     for &id in self.leaf(&e) {

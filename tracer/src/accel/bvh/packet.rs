@@ -9,6 +9,7 @@
 
 use super::wide::{Entry, Node4};
 use super::{Bvh, Stacks};
+use crate::aabb::ENTRY_SLACK;
 use crate::accel::Tracer;
 use crate::packet::prims::test_prim;
 use crate::packet::{LaneHits, RayPacket};
@@ -119,7 +120,8 @@ fn traverse<V: F32s, H: LaneHits>(
             // Lanes whose best hit is nearer than the box cannot improve in it.
             let mut keep: Mask = 0;
             for g in 0..LANES / V::W {
-                keep |= group_bits::<V>(s.splat(e.t).le(s.load(hits.far(p), g)), g);
+                let far = s.load(hits.far(p), g).mul(s.splat(ENTRY_SLACK));
+                keep |= group_bits::<V>(s.splat(e.t).le(far), g);
             }
             mask &= keep;
         }

@@ -10,7 +10,7 @@
 //! because near and far planes are chosen by the sign of 1/d.
 
 use super::build::{self, Binary, BuildPrim};
-use crate::aabb::SLAB_WIDEN;
+use crate::aabb::{ENTRY_SLACK, SLAB_WIDEN};
 use crate::geometry::Geometry;
 use crate::math::RayQuery;
 use crate::packet::RayPacket;
@@ -240,8 +240,8 @@ impl Node4 {
 
     /// The packet form of [`Node4::hit`], with vectors `V`: per child
     /// slot, the lanes of `mask` whose rays enter the box before their
-    /// `far` distance, and the nearest entry among them (infinity when
-    /// none). Near and far planes come from min and max of the two slab
+    /// `far` distance (give or take [`ENTRY_SLACK`]), and the nearest entry
+    /// among them (infinity when none). Near and far planes come from min and max of the two slab
     /// distances, which for the non-empty boxes tested equals choosing them
     /// by the sign of 1/d.
     ///
@@ -279,7 +279,7 @@ impl Node4 {
                     t_near = t_near.max(t0.min(t1));
                     t_far = t_far.min(t0.max(t1));
                 }
-                let t_far = t_far.mul(s.splat(SLAB_WIDEN)).min(s.load(far, g));
+                let t_far = t_far.mul(s.splat(SLAB_WIDEN)).min(s.load(far, g).mul(s.splat(ENTRY_SLACK)));
                 let hit = t_near.le(t_far);
                 m |= group_bits::<V>(hit, g);
                 if !Q::ANY_HIT {
