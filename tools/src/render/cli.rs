@@ -80,6 +80,9 @@ fn render_command(cfg: &RenderConfig) -> Result<()> {
     if let Some(w) = lighting::unlit_warning(&scene, prepared.ambient > 0.0).filter(|_| !cfg.quiet) {
         eprintln!("warning: {name}: {w}");
     }
+    if let Some(w) = prepared.accel_info().warning.filter(|_| !cfg.quiet) {
+        eprintln!("warning: {name}: {w}");
+    }
     let full = prepared.camera.resolution();
     let mut settings = cfg.settings.clone();
     settings.window = cfg.part.map(|p| p.window(full.0, full.1)).transpose()?;

@@ -26,6 +26,12 @@ use std::time::Instant;
 /// Cap on the number of cells, whatever M asks for.
 const MAX_CELLS: u64 = 1 << 26;
 
+/// Most cells and references together (4 bytes each: 256 MB). Formula (1)
+/// multiplies cells by objects, and a primitive goes into every cell its
+/// box touches, so one huge polygon's triangles can ask for billions of
+/// references; past this the grid is made coarser until it fits.
+const MAX_ENTRIES: u64 = 1 << 26;
+
 /// The grid.
 #[derive(Debug, Clone)]
 pub(crate) struct Grid {
@@ -40,6 +46,8 @@ pub(crate) struct Grid {
     mailbox: bool,
     prim_count: usize,
     build_seconds: f64,
+    /// Why the grid is coarser than formula (1) asks, if it is.
+    coarsened: Option<String>,
 }
 
 /// Per-thread mailbox: the last ray id that tested each primitive.
@@ -98,32 +106,65 @@ pub(crate) fn cell_counts(bounds: &Aabb, n: usize, m: f32) -> [u32; 3] {
 }
 
 impl Grid {
-    /// Build with density multiplier `m`.
+    /// Build with density multiplier `m`: formula (1)'s cells, or fewer
+    /// when its references would not fit in [`MAX_ENTRIES`].
     pub(crate) fn build(geom: &Geometry, m: f32, mailbox: bool) -> Grid {
         let t0 = Instant::now();
         let n = geom.bounded_len();
         let boxes: Vec<Aabb> = (0..n as u32).map(|id| geom.bounds(id)).collect();
         let bounds = boxes.iter().fold(Aabb::EMPTY, |a, b| a.union(*b));
         let bounds = if n == 0 { Aabb::new(Vec3A::ZERO, Vec3A::ZERO) } else { bounds };
-        let dims = cell_counts(&bounds, n, m.max(0.0));
-        let dimv = Vec3A::new(dims[0] as f32, dims[1] as f32, dims[2] as f32);
-        let size = bounds.size();
-        let cell_size = size / dimv;
-        let inv_cell_size = Vec3A::select(size.cmpgt(Vec3A::ZERO), dimv / size, Vec3A::ZERO);
-        let mut grid = Grid {
-            bounds,
-            dims,
-            cell_size,
-            inv_cell_size,
-            offsets: Vec::new(),
-            items: Vec::new(),
-            mailbox,
-            prim_count: n,
-            build_seconds: 0.0,
-        };
+        let asked = cell_counts(&bounds, n, m.max(0.0));
+        let mut grid = Grid::empty(bounds, asked, mailbox, n);
+        let mut refs = grid.references(&boxes);
+        while grid.cells() + refs > MAX_ENTRIES && grid.dims != [1, 1, 1] {
+            grid = Grid::empty(bounds, grid.dims.map(|d| d.div_ceil(2)), mailbox, n);
+            refs = grid.references(&boxes);
+        }
+        if grid.dims != asked {
+            let [x, y, z] = asked;
+            let [a, b, c] = grid.dims;
+            grid.coarsened = Some(format!(
+                "formula (1) asks for {x}x{y}x{z} cells, whose references would not fit in memory \
+                 (the primitives' boxes overlap that many cells); using {a}x{b}x{c} cells with {refs} references"
+            ));
+        }
         grid.fill(&boxes);
         grid.build_seconds = t0.elapsed().as_secs_f64();
         grid
+    }
+
+    /// A grid of `dims` cells over `bounds`, not yet filled.
+    fn empty(bounds: Aabb, dims: [u32; 3], mailbox: bool, prim_count: usize) -> Grid {
+        let dimv = Vec3A::new(dims[0] as f32, dims[1] as f32, dims[2] as f32);
+        let size = bounds.size();
+        Grid {
+            bounds,
+            dims,
+            cell_size: size / dimv,
+            inv_cell_size: Vec3A::select(size.cmpgt(Vec3A::ZERO), dimv / size, Vec3A::ZERO),
+            offsets: Vec::new(),
+            items: Vec::new(),
+            mailbox,
+            prim_count,
+            build_seconds: 0.0,
+            coarsened: None,
+        }
+    }
+
+    /// Number of cells.
+    fn cells(&self) -> u64 {
+        self.dims.iter().map(|&d| d as u64).product()
+    }
+
+    /// How many references filling the grid with `boxes` would make,
+    /// counted without allocating (saturating).
+    fn references(&self, boxes: &[Aabb]) -> u64 {
+        boxes.iter().fold(0u64, |sum, b| {
+            let (lo, hi) = self.cell_ranges(b);
+            let n = (0..3).map(|i| (hi[i] - lo[i]) as u64 + 1).product::<u64>();
+            sum.saturating_add(n)
+        })
     }
 
     /// Algorithm 2 of the P3D report (§3.2.3): a world position to clamped cell indices.
@@ -185,6 +226,7 @@ impl Grid {
             nodes: self.offsets.len() - 1,
             summary: if self.mailbox { "uniform grid with mailboxes" } else { "uniform grid, no mailboxes" },
             unit: "cells",
+            warning: self.coarsened.clone(),
         }
     }
 
@@ -367,6 +409,54 @@ mod tests {
                 let dist: i32 = (0..3).map(|j| (w[0][j] as i32 - w[1][j] as i32).abs()).sum();
                 assert_eq!(dist, 1);
             }
+        }
+    }
+
+    #[test]
+    fn a_huge_polygon_coarsens_the_grid_within_its_memory_bound() {
+        // One convex 20,000-gon: its triangles are slivers from one vertex
+        // across the whole disc, so each box covers most of formula (1)'s
+        // cells (about 2.4 billion references at 307x307x1).
+        use nffkit_formats::{Primitive, Scene, Shape, SourceLine};
+        let n = 20_000;
+        let vertices = (0..n)
+            .map(|i| {
+                let a = std::f64::consts::TAU * i as f64 / n as f64;
+                glam::DVec3::new(a.cos(), a.sin(), 0.0)
+            })
+            .collect();
+        let scene = Scene {
+            primitives: vec![Primitive {
+                shape: Shape::Polygon { vertices },
+                material: None,
+                line: SourceLine(1),
+            }],
+            ..Default::default()
+        };
+        let m = crate::material::WhittedMaterial {
+            color: Vec3A::ONE,
+            kd: 1.0,
+            ks: 0.0,
+            shine: 1.0,
+            t: 0.0,
+            ior: 1.0,
+        };
+        let g = crate::prepare::build_geometry(&scene, &[m], false);
+        let grid = Grid::build(&g, 2.0, true);
+        assert!(
+            grid.cells() + grid.items.len() as u64 <= MAX_ENTRIES,
+            "{:?}, {} refs",
+            grid.dims,
+            grid.items.len()
+        );
+        let warning = grid.info().warning.expect("the user is told");
+        assert!(warning.contains("would not fit in memory"), "{warning}");
+        // Still the brute-force answers.
+        let (mut tg, mut tb) = (Tracer::new(&grid, &g), Tracer::new(&super::super::BruteForce, &g));
+        for i in 0..50 {
+            let a = i as f32 * 0.7;
+            let q = RayQuery::new(Ray::new(Vec3A::new(a.sin() * 0.9, a.cos() * 0.9, 2.0), -Vec3A::Z), 0.0);
+            assert_eq!(tg.nearest(&q, f32::INFINITY), tb.nearest(&q, f32::INFINITY));
         }
     }
 

@@ -224,7 +224,7 @@ pub(crate) enum Accel {
 }
 
 /// What an accelerator costs: for the statistics.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct AccelInfo {
     /// Build time in seconds.
     pub build_seconds: f64,
@@ -236,6 +236,9 @@ pub struct AccelInfo {
     pub summary: &'static str,
     /// What `nodes` counts, for reports: "nodes" or "cells".
     pub unit: &'static str,
+    /// What the user should know about how it was built (a grid made
+    /// coarser than asked), if anything.
+    pub warning: Option<String>,
 }
 
 impl Accel {

@@ -51,6 +51,7 @@ impl Bvh {
             nodes: self.wide.len(),
             summary: "BVH (binned SAH, 4-wide)",
             unit: "nodes",
+            warning: None,
         }
     }
 
