@@ -1,6 +1,7 @@
 //! Geometry of polygons shared by the reader's checks, the tracer and the
 //! mesh converter: normals, projection, orientation, and triangulation.
 
+mod monotone;
 mod triangulate;
 
 pub use triangulate::triangulate;
