@@ -2,7 +2,7 @@
 //! printed, compiler-like diagnostics.
 
 use anyhow::{bail, Context, Result};
-use nffkit_formats::nff::{self, ParseOptions, Parsed, Severity};
+use nffkit_formats::nff::{self, escape, ParseOptions, Parsed, Report, Severity};
 use std::io::Read;
 use std::path::Path;
 
@@ -69,25 +69,52 @@ pub fn display_name(path: &Path) -> String {
     }
 }
 
-/// Read and parse a scene, printing warnings (unless `quiet`) and every error
-/// to stderr; notes (uses of documented extensions) are left to `--check`. Fails with a one-line summary when the file has errors.
-pub fn load_scene(path: &Path, opts: &ParseOptions, quiet: bool) -> Result<Parsed> {
+/// Which of a file's warnings to print.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Warnings {
+    /// None (`--quiet`, and tools that only read fixtures).
+    Hide,
+    /// The first few of each kind, the rest counted.
+    Summarise,
+    /// Every one (`--all-warnings`).
+    All,
+}
+
+/// The report that prints `src`'s diagnostics as `warnings` asks.
+pub fn report<'s>(name: &'s str, src: &'s [u8], warnings: Warnings) -> Report<'s> {
+    let report = Report::new(name, src);
+    if warnings == Warnings::All {
+        report.all()
+    } else {
+        report
+    }
+}
+
+/// Read and parse a scene, printing its warnings as `warnings` asks and
+/// every error to stderr; notes (uses of documented extensions) are left to
+/// `--check`. Fails with a one-line summary when the file has errors.
+pub fn load_scene(path: &Path, opts: &ParseOptions, warnings: Warnings) -> Result<Parsed> {
     let src = read_source(path)?;
     let name = display_name(path);
+    let mut out = report(&name, &src, warnings);
     match nff::parse(&src, opts) {
         Ok(parsed) => {
-            if !quiet {
-                for d in parsed.diagnostics.iter().filter(|d| d.severity != Severity::Note) {
-                    eprint!("{}", d.render(&name, &src));
+            if warnings != Warnings::Hide {
+                for d in parsed.diagnostics.iter().filter(|d| d.severity == Severity::Warning) {
+                    out.render(d).inspect(|text| eprint!("{text}"));
                 }
+                eprint!("{}", out.held_back());
             }
             Ok(parsed)
         }
         Err(e) => {
-            for d in &e.diagnostics {
-                eprint!("{}", d.render(&name, &src));
+            for d in
+                e.diagnostics.iter().filter(|d| warnings != Warnings::Hide || d.severity == Severity::Error)
+            {
+                out.render(d).inspect(|text| eprint!("{text}"));
             }
-            bail!("{name}: {e}")
+            eprint!("{}", out.held_back());
+            bail!("{name}: {}", escape(&e.to_string()))
         }
     }
 }

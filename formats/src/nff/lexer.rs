@@ -1,9 +1,10 @@
 //! Splits NFF source into tokens with their positions.
 //!
 //! Whitespace (space, tab, CR, LF, form feed, vertical tab) separates tokens;
-//! `#` ends the line as a comment, even in the middle of a token. Any byte
-//! sequence is accepted: a token that is not UTF-8 is reported by the parser
-//! like any other unexpected token.
+//! `#` ends the line as a comment, even in the middle of a token. Lines end
+//! at LF, CR LF, or a CR alone (old Mac files). Any byte sequence is
+//! accepted: a token that is not UTF-8 is reported by the parser like any
+//! other unexpected token.
 
 use super::number::number_prefix;
 
@@ -36,6 +37,11 @@ impl Token<'_> {
         char_count(self.before) + 1
     }
 
+    /// Characters in `bytes` (UTF-8 lead bytes).
+    pub fn char_count(bytes: &[u8]) -> u32 {
+        char_count(bytes)
+    }
+
     /// Width in characters, for underlining.
     pub fn width(&self) -> u32 {
         char_count(self.text).clamp(1, 200)
@@ -45,6 +51,31 @@ impl Token<'_> {
 fn char_count(bytes: &[u8]) -> u32 {
     // UTF-8 continuation bytes are 0b10xx_xxxx; count every other byte.
     bytes.iter().filter(|&&b| b & 0xC0 != 0x80).count() as u32
+}
+
+/// How many lines `bytes` ends (the lexer's rule: LF, CR LF, or a lone
+/// CR). A CR at the very end counts: what follows, if anything, starts a
+/// new line unless it is an LF, which the caller's next chunk would count.
+pub(super) fn line_breaks(bytes: &[u8]) -> u32 {
+    if !bytes.contains(&b'\r') {
+        return bytes.iter().filter(|&&b| b == b'\n').count() as u32;
+    }
+    let mut n = 0;
+    for (i, &b) in bytes.iter().enumerate() {
+        n += u32::from(b == b'\n' || (b == b'\r' && bytes.get(i + 1) != Some(&b'\n')));
+    }
+    n
+}
+
+/// The byte offsets where the lines of `src` start, by the lexer's rule.
+pub(super) fn line_starts(src: &[u8]) -> Vec<usize> {
+    let mut starts = vec![0];
+    for (i, &b) in src.iter().enumerate() {
+        if b == b'\n' || (b == b'\r' && src.get(i + 1) != Some(&b'\n')) {
+            starts.push(i + 1);
+        }
+    }
+    starts
 }
 
 /// An iterator over tokens.
@@ -71,12 +102,13 @@ const TOKEN: u8 = 0;
 const SPACE: u8 = 1;
 const NEWLINE: u8 = 2;
 const COMMENT: u8 = 3;
+const CR: u8 = 4;
 
 const CLASS: [u8; 256] = {
     let mut c = [TOKEN; 256];
     c[b' ' as usize] = SPACE;
     c[b'\t' as usize] = SPACE;
-    c[b'\r' as usize] = SPACE;
+    c[b'\r' as usize] = CR;
     c[0x0b] = SPACE;
     c[0x0c] = SPACE;
     c[b'\n' as usize] = NEWLINE;
@@ -99,9 +131,18 @@ impl<'a> Lexer<'a> {
                     self.line_start = self.pos;
                 }
                 SPACE => self.pos += 1,
+                // A CR before an LF is space; alone, it ends the line.
+                CR if src.get(self.pos + 1) == Some(&b'\n') => self.pos += 1,
+                CR => {
+                    self.pos += 1;
+                    self.line += 1;
+                    self.line_start = self.pos;
+                }
                 COMMENT => {
-                    self.pos +=
-                        src[self.pos..].iter().position(|&b| b == b'\n').unwrap_or(src.len() - self.pos);
+                    self.pos += src[self.pos..]
+                        .iter()
+                        .position(|&b| b == b'\n' || b == b'\r')
+                        .unwrap_or(src.len() - self.pos);
                 }
                 _ => return true,
             }
@@ -214,6 +255,15 @@ mod tests {
             }
             proptest::prop_assert_eq!(plain, fused);
         }
+    }
+
+    #[test]
+    fn a_lone_cr_ends_a_line_as_lf_and_cr_lf_do() {
+        let t = tokens("a\rb\r\nc\nd # e\rf");
+        let lines: Vec<u32> = t.iter().map(|t| t.1).collect();
+        assert_eq!(lines, [1, 2, 3, 4, 5]);
+        assert_eq!(line_breaks(b"a\rb\r\nc\nd"), 3);
+        assert_eq!(line_starts(b"a\rb\r\nc"), [0, 2, 5]);
     }
 
     #[test]

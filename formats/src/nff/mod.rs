@@ -16,7 +16,7 @@ mod parse;
 mod read;
 mod write;
 
-pub use diag::{Diagnostic, Severity};
+pub use diag::{escape, Diagnostic, Report, Severity, SHOWN_PER_KIND};
 pub use parallel::parse_in_chunks;
 pub use parse::{parse_sequential, ParseError, ParseOptions, Parsed};
 pub use read::parse;

@@ -13,6 +13,7 @@
 //! back to the sequential reader, so the result and the diagnostics are
 //! always exactly those of reading it in one piece.
 
+use super::lexer::line_breaks;
 use super::parse::{parse_chunk, primitives_hint, ParseOptions, Parsed, ENTITY_KEYWORDS};
 use crate::scene::Scene;
 use rayon::prelude::*;
@@ -41,7 +42,7 @@ pub fn parse_in_chunks(src: &[u8], opts: &ParseOptions, chunks: usize) -> Option
     let mut line = 1u32;
     let mut prev = 0;
     for &s in &starts {
-        line += src[prev..s].iter().filter(|&&b| b == b'\n').count() as u32;
+        line += line_breaks(&src[prev..s]);
         lines.push(line);
         prev = s;
     }

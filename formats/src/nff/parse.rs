@@ -225,6 +225,9 @@ struct Parser<'a> {
     /// unexpected end of file is reported); kept whole so the width is
     /// only counted when such an error happens.
     last: Option<Token<'a>>,
+    /// The last column found: its line's start (address), the length of the
+    /// line up to it, and the column.
+    last_column: std::cell::Cell<(usize, usize, u32)>,
 }
 
 type Res<T> = Result<T, Diagnostic>;
@@ -243,12 +246,13 @@ impl<'a> Parser<'a> {
             first_object_line: None,
             view_seen: false,
             last: None,
+            last_column: std::cell::Cell::new((0, 0, 1)),
         }
     }
 
     /// Line and column just after the last token read ((1, 1) before any).
     fn eof(&self) -> (u32, u32) {
-        self.last.map_or((1, 1), |t| (t.line, t.column() + t.width()))
+        self.last.map_or((1, 1), |t| (t.line, self.column(&t) + t.width()))
     }
 
     fn peek(&mut self) -> Option<Token<'a>> {
@@ -270,7 +274,20 @@ impl<'a> Parser<'a> {
     }
 
     fn diag_at(&self, severity: Severity, t: &Token, message: String) -> Diagnostic {
-        Diagnostic { severity, line: t.line, column: t.column(), width: t.width(), message, note: None }
+        Diagnostic { severity, line: t.line, column: self.column(t), width: t.width(), message, note: None }
+    }
+
+    /// [`Token::column`], counted on from the last column found on the same
+    /// line, so that many diagnostics on one long line cost linear time.
+    fn column(&self, t: &Token) -> u32 {
+        let (start, len, column) = self.last_column.get();
+        let column = if start == t.before.as_ptr() as usize && len <= t.before.len() {
+            column + Token::char_count(&t.before[len..])
+        } else {
+            t.column()
+        };
+        self.last_column.set((t.before.as_ptr() as usize, t.before.len(), column));
+        column
     }
 
     fn error_at(&self, t: &Token, message: String) -> Diagnostic {

@@ -174,3 +174,12 @@ fn empty_and_comment_only_files_are_errors_not_panics() {
         assert!(d.message.contains("no view"));
     }
 }
+
+#[test]
+fn cr_only_line_endings_give_the_right_lines() {
+    // Old Mac files end lines with CR alone: line 9, not line 1 column 80.
+    let src = format!("{VIEW}l 0 0 5\ns 0 0 0 1 2\n").replace('\n', "\r");
+    expect(&src, 9, 11, "`2`");
+    let text = first_error(&src).render("mac.nff", src.as_bytes());
+    assert!(text.contains("9 | s 0 0 0 1 2\n"), "{text}");
+}

@@ -60,7 +60,14 @@ pub struct Timing {
 pub fn load(case: &Case, spd_dir: &Path) -> Result<Scene> {
     Ok(match case.source {
         Source::Balls(level) => Sphereflake::at(level, Floor::Square).scene(),
-        Source::File(f) => crate::input::load_scene(&spd_dir.join(f), &ParseOptions::default(), true)?.scene,
+        Source::File(f) => {
+            crate::input::load_scene(
+                &spd_dir.join(f),
+                &ParseOptions::default(),
+                crate::input::Warnings::Hide,
+            )?
+            .scene
+        }
     })
 }
 

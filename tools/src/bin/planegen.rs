@@ -35,7 +35,7 @@ fn run(a: &Args) -> Result<()> {
     board.validate()?;
     let scene = match &a.append_to {
         Some(path) => {
-            let mut scene = input::load_scene(path, &ParseOptions::default(), false)
+            let mut scene = input::load_scene(path, &ParseOptions::default(), input::Warnings::Summarise)
                 .with_context(|| format!("cannot append to {}", path.display()))?
                 .scene;
             board.add_to(&mut scene);

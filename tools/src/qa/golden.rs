@@ -132,7 +132,9 @@ pub fn scene_of(case: &Case, scenes: &Path) -> Result<Scene> {
                 .map_err(|e| anyhow::anyhow!("{m} converted: {e}"))?
                 .scene
         }
-        Source::File(f) => input::load_scene(&scenes.join(f), &ParseOptions::default(), true)?.scene,
+        Source::File(f) => {
+            input::load_scene(&scenes.join(f), &ParseOptions::default(), input::Warnings::Hide)?.scene
+        }
     })
 }
 

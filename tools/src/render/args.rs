@@ -8,6 +8,7 @@
 //! validates again. Library errors describe the problem; the messages here
 //! add the flag that caused it.
 
+use crate::input::Warnings;
 use anyhow::{bail, Result};
 use clap::Parser;
 use nffkit_formats::image_io::ImageKind;
@@ -50,9 +51,13 @@ pub struct RenderArgs {
     /// Worker threads (default: all cores). The image does not depend on it.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
-    /// Print nothing but errors.
+    /// Print nothing but errors (and, with --check, each file's summary).
     #[arg(short, long)]
     pub quiet: bool,
+    /// Print every warning and note. By default the first few of each kind
+    /// are printed and the rest counted ("... and 24518 more like ...").
+    #[arg(long, conflicts_with = "quiet")]
+    pub all_warnings: bool,
     /// Print ray and traversal statistics to standard output.
     #[arg(long)]
     pub stats: bool,
@@ -231,6 +236,8 @@ pub enum Command {
         files: Vec<PathBuf>,
         /// How to parse them.
         parse: ParseOptions,
+        /// Which warnings and notes to print.
+        warnings: Warnings,
     },
     /// Render one scene.
     Render(Box<RenderConfig>),
@@ -261,6 +268,8 @@ pub struct RenderConfig {
     pub stats: bool,
     /// Print nothing but errors.
     pub quiet: bool,
+    /// Which of the scene's warnings to print.
+    pub warnings: Warnings,
     /// Adjustments to tell the user about (a sample count rounded up).
     pub notes: Vec<String>,
     /// Only a part of the image, for render farms.
@@ -274,7 +283,11 @@ impl RenderArgs {
             if self.files.is_empty() {
                 bail!("--check needs at least one file");
             }
-            return Ok(Command::Check { files: self.files.clone(), parse: self.parse_options() });
+            return Ok(Command::Check {
+                files: self.files.clone(),
+                parse: self.parse_options(),
+                warnings: self.warnings(),
+            });
         }
         Ok(Command::Render(Box::new(self.render_config()?)))
     }
@@ -334,9 +347,20 @@ impl RenderArgs {
             aov_cost: self.aov_cost.clone(),
             stats: self.stats || self.spd,
             quiet: self.quiet,
+            warnings: self.warnings(),
             notes: note.into_iter().map(|m| format!("--spp: {m}")).collect(),
             part: self.part(),
         })
+    }
+
+    fn warnings(&self) -> Warnings {
+        if self.quiet {
+            Warnings::Hide
+        } else if self.all_warnings {
+            Warnings::All
+        } else {
+            Warnings::Summarise
+        }
     }
 
     fn parse_options(&self) -> ParseOptions {

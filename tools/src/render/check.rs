@@ -1,6 +1,7 @@
 //! `render --check`: validate NFF files and summarise what they hold.
 
-use nffkit_formats::nff::{self, ParseOptions, Severity};
+use crate::input::Warnings;
+use nffkit_formats::nff::{self, escape, ParseOptions, Severity};
 use nffkit_formats::{plural, Scene, ShapeKind};
 use std::fmt::Write as _;
 use strum::VariantArray;
@@ -18,17 +19,23 @@ pub struct CheckReport {
     pub scene: Option<Scene>,
 }
 
-/// Check one file's bytes, `name` being how it is shown in messages.
-pub fn check_source(name: &str, src: &[u8], opts: &ParseOptions) -> CheckReport {
-    let mut diagnostics = String::new();
+/// Check one file's bytes, `name` being how it is shown in messages;
+/// warnings and notes are printed as `warnings` asks (errors always).
+pub fn check_source(name: &str, src: &[u8], opts: &ParseOptions, warnings: Warnings) -> CheckReport {
+    let mut out = crate::input::report(name, src, warnings);
+    let mut print = |all: &[nff::Diagnostic]| {
+        let mut text = String::new();
+        for d in all.iter().filter(|d| warnings != Warnings::Hide || d.severity == Severity::Error) {
+            text += &out.render(d).unwrap_or_default();
+        }
+        text + &out.held_back()
+    };
     match nff::parse(src, opts) {
         Ok(parsed) => {
-            for d in &parsed.diagnostics {
-                diagnostics += &d.render(name, src);
-            }
+            let mut diagnostics = print(&parsed.diagnostics);
             let unlit = crate::render::lighting::unlit_warning(&parsed.scene, false);
-            if let Some(w) = &unlit {
-                diagnostics += &format!("warning: {w}\n --> {name}\n");
+            if let Some(w) = unlit.as_ref().filter(|_| warnings != Warnings::Hide) {
+                diagnostics += &format!("warning: {w}\n --> {}\n", escape(name));
             }
             let warnings = parsed.diagnostics.iter().filter(|d| d.severity == Severity::Warning).count()
                 + unlit.is_some() as usize;
@@ -37,13 +44,12 @@ pub fn check_source(name: &str, src: &[u8], opts: &ParseOptions) -> CheckReport 
             CheckReport { diagnostics, summary, errors: 0, scene: Some(parsed.scene) }
         }
         Err(e) => {
-            for d in &e.diagnostics {
-                diagnostics += &d.render(name, src);
-            }
+            let diagnostics = print(&e.diagnostics);
             let errors = e.diagnostics.iter().filter(|d| d.severity == Severity::Error).count();
             let warnings = e.diagnostics.iter().filter(|d| d.severity == Severity::Warning).count();
             let summary = format!(
-                "{name}: INVALID, {errors} error{}, {warnings} warning{}",
+                "{}: INVALID, {errors} error{}, {warnings} warning{}",
+                escape(name),
                 plural(errors),
                 plural(warnings)
             );
@@ -55,7 +61,7 @@ pub fn check_source(name: &str, src: &[u8], opts: &ParseOptions) -> CheckReport 
 fn summary(name: &str, scene: &Scene, warnings: usize, notes: usize) -> String {
     let counts = scene.counts();
     let total: usize = counts.iter().sum();
-    let mut out = format!("{name}: ok, ");
+    let mut out = format!("{}: ok, ", escape(name));
     if let Some(v) = &scene.view {
         let _ = write!(out, "view {}x{}, ", v.resolution[0], v.resolution[1]);
     } else {
@@ -101,7 +107,7 @@ mod tests {
     fn summary_counts_kinds() {
         let src = b"v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 8 8\nl 1 1 1\n\
                     s 0 0 0 1\ns 1 1 1 1\nc 0 0 0 1 0 0 1 1\n";
-        let r = check_source("t.nff", src, &ParseOptions::default());
+        let r = check_source("t.nff", src, &ParseOptions::default(), Warnings::Summarise);
         assert_eq!(r.errors, 0);
         assert!(r.summary.contains("3 primitives (2 spheres, 1 cone)"), "{}", r.summary);
         assert!(
@@ -114,7 +120,7 @@ mod tests {
     #[test]
     fn invalid_file_counts_errors() {
         // The cut-short `b` and the missing view are both reported.
-        let r = check_source("t.nff", b"b 1 2\n", &ParseOptions::default());
+        let r = check_source("t.nff", b"b 1 2\n", &ParseOptions::default(), Warnings::Summarise);
         assert_eq!(r.errors, 2);
         assert!(r.summary.contains("INVALID"));
         assert!(r.diagnostics.contains("t.nff:"));

@@ -22,7 +22,7 @@ use std::time::Instant;
 /// Run the command; the exit code reflects errors.
 pub fn run(args: &RenderArgs) -> Result<ExitCode> {
     match args.command()? {
-        Command::Check { files, parse } => Ok(check_files(&files, &parse)),
+        Command::Check { files, parse, warnings } => Ok(check_files(&files, &parse, warnings)),
         Command::Render(config) => {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(config.threads)
@@ -34,13 +34,13 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode> {
     }
 }
 
-fn check_files(files: &[PathBuf], opts: &ParseOptions) -> ExitCode {
+fn check_files(files: &[PathBuf], opts: &ParseOptions, warnings: input::Warnings) -> ExitCode {
     let mut failed = 0;
     for (k, path) in files.iter().enumerate() {
         let name = input::display_name(path);
         match input::read_source(path) {
             Ok(src) => {
-                let report = check::check_source(&name, &src, opts);
+                let report = check::check_source(&name, &src, opts, warnings);
                 eprint!("{}", report.diagnostics);
                 println!("{}", report.summary);
                 failed += (report.errors > 0) as usize;
@@ -72,7 +72,7 @@ fn render_command(cfg: &RenderConfig) -> Result<()> {
         }
     }
     let (scene, name) = match &cfg.input {
-        Some(path) => (input::load_scene(path, &cfg.parse, cfg.quiet)?.scene, input::display_name(path)),
+        Some(path) => (input::load_scene(path, &cfg.parse, cfg.warnings)?.scene, input::display_name(path)),
         None => (default_scene::default_scene(), "built-in default scene".to_string()),
     };
     let t_parse = t_start.elapsed().as_secs_f64();

@@ -378,3 +378,55 @@ fn packets_change_the_speed_not_the_image() {
     assert!(stats.contains("in packets of 16, kernels for"), "{stats}");
     assert!(stats_off.contains("packets      off"), "{stats_off}");
 }
+
+/// A scene of `n` patches whose normals have length 2 (a warning each),
+/// one patch per line, or all on one line.
+fn patches_with_long_normals(n: usize, one_line: bool) -> String {
+    let mut s =
+        String::from("v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 0.1 resolution 16 16\nl 0 0 5\n");
+    for _ in 0..n {
+        s += "pp 3 0 0 0 0 0 2 1 0 0 0 0 2 0 1 0 0 0 2";
+        s.push(if one_line { ' ' } else { '\n' });
+    }
+    s
+}
+
+#[test]
+fn repeated_warnings_are_counted_after_the_first_few() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("p.nff");
+    std::fs::write(&file, patches_with_long_normals(3000, false)).unwrap();
+    let f = file.to_str().unwrap();
+    let out = run(RENDER, &["--check", f], None);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.matches("warning: patch normal").count(), 5, "{err}");
+    assert!(
+        err.contains("... and 2995 more like `patch normal of vertex 1 has length 2.0000, not 1`"),
+        "{err}"
+    );
+    let summary = String::from_utf8_lossy(&out.stdout);
+    assert!(summary.contains("3000 warnings"), "{summary}");
+    let all = run(RENDER, &["--check", "--all-warnings", f], None);
+    assert_eq!(String::from_utf8_lossy(&all.stderr).matches("warning: patch normal").count(), 3000);
+    let quiet = run(RENDER, &["--check", "-q", f], None);
+    assert!(quiet.stderr.is_empty() && quiet.status.success());
+    assert!(String::from_utf8_lossy(&quiet.stdout).contains("3000 warnings"));
+    // A render prints the same summarised warnings, and nothing with -q.
+    let png = dir.path().join("p.png");
+    let r = run(RENDER, &[f, "-o", png.to_str().unwrap()], None);
+    assert_eq!(String::from_utf8_lossy(&r.stderr).matches("warning: patch normal").count(), 5);
+    let r = run(RENDER, &[f, "-q", "-o", png.to_str().unwrap()], None);
+    assert!(r.stderr.is_empty());
+}
+
+#[test]
+fn warnings_on_one_long_line_stay_small() {
+    // 5,000 warnings on one 200 KB line: each shows a window of the line,
+    // not the line padded out to its column.
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("p.nff");
+    std::fs::write(&file, patches_with_long_normals(5000, true)).unwrap();
+    let out = run(RENDER, &["--check", "--all-warnings", file.to_str().unwrap()], None);
+    assert_eq!(String::from_utf8_lossy(&out.stderr).matches("warning: patch normal").count(), 5000);
+    assert!(out.stderr.len() < 3 << 20, "{} bytes of warnings", out.stderr.len());
+}
