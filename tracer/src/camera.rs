@@ -38,7 +38,9 @@ impl Camera {
         let f = |v: DVec3| Vec3A::new(v.x as f32, v.y as f32, v.z as f32);
         let dir = view.at - view.from;
         let forward = dir.normalize();
-        let right = forward.cross(view.up).normalize();
+        // `up` made unit first: a short one (1e-150) would underflow in the
+        // cross product.
+        let right = forward.cross(view.up.normalize()).normalize();
         let up = right.cross(forward);
         let n = width.min(height);
         let span = 2.0 * (view.angle.to_radians() * 0.5).tan();

@@ -95,6 +95,21 @@ impl<'a> Lexer<'a> {
     pub fn starting_at(src: &'a [u8], line: u32) -> Self {
         Lexer { src, pos: 0, line, last_line: 0, line_start: 0 }
     }
+
+    /// The source being read.
+    pub fn source(&self) -> &'a [u8] {
+        self.src
+    }
+
+    /// A lexer over `src` that goes on after `t`, a token of `src` (or of
+    /// a longer source `src` is the start of, if `t` lies within `src`),
+    /// with the lines and columns the first lexer gave.
+    pub fn after(src: &'a [u8], t: &Token<'a>) -> Self {
+        let offset = |bytes: &[u8]| (bytes.as_ptr() as usize).saturating_sub(src.as_ptr() as usize);
+        let pos = (offset(t.text) + t.text.len()).min(src.len());
+        let line_start = offset(t.before).min(pos);
+        Lexer { src, pos, line: t.line, last_line: t.line, line_start }
+    }
 }
 
 /// Byte classes, looked up rather than compared in the hot loops.

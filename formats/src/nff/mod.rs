@@ -1,5 +1,5 @@
 //! The Neutral File Format: reading ([`parse`], in `read.rs`, above the
-//! sequential reader `parse.rs` and the parallel one `parallel.rs`), writing
+//! sequential reader `parse/` and the parallel one `parallel.rs`), writing
 //! ([`write`], [`NffWriter`]) and the diagnostics that point into the
 //! source ([`Diagnostic`]).
 //!

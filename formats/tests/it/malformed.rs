@@ -183,3 +183,63 @@ fn cr_only_line_endings_give_the_right_lines() {
     let text = first_error(&src).render("mac.nff", src.as_bytes());
     assert!(text.contains("9 | s 0 0 0 1 2\n"), "{text}");
 }
+
+#[test]
+fn a_short_vertex_line_is_blamed_where_it_is() {
+    // Vertex 2 has two numbers: the reader runs on into the next entity.
+    let src = format!("{VIEW}p 3\n0 0 0\n1 0\n0 1 0\ns 0 0 0 1\n");
+    expect(&src, 10, 1, "vertex 2 of 3 has 2 numbers on line 10, not 3");
+    expect(&src, 10, 1, "failed at 12:1: expected a coordinate of vertex 3 of 3, found `s`");
+    // At the end of the file, and in a patch written a vertex and its
+    // normal to a line.
+    expect(&format!("{VIEW}p 3\n0 0\n1 0 0\n0 1 0\n"), 9, 1, "vertex 1 of 3 has 2 numbers on line 9");
+    let patch = format!("{VIEW}pp 3\n0 0 0 0 0 1\n1 0 0 0 0\n0 1 0 0 0 1\ns 0 0 0 1\n");
+    expect(&patch, 10, 1, "vertex 2 of 3 has 5 numbers on line 10, not 6");
+    // Lines that all hold whole vertices: the polygon is cut short, and
+    // the error is where the reader stopped.
+    expect(&format!("{VIEW}p 4\n0 0 0\n1 0 0\n1 1 0\ns 0 0 0 1\n"), 12, 1, "vertex 4 of 4");
+}
+
+#[test]
+fn a_value_too_many_is_extra_not_an_unknown_entity() {
+    let src = format!("{VIEW}s 0 0 0 1 2\n");
+    expect(&src, 8, 11, "extra value `2` after the `s` on line 8");
+    expect(&src, 8, 11, "a sphere takes 4 numbers");
+    // In a polygon, the line with a number too many is blamed.
+    let src = format!("{VIEW}p 3\n0 0 0 5\n1 0 0\n0 1 0\n");
+    expect(&src, 9, 1, "vertex 1 of 3 has 4 numbers on line 9, not 3");
+    expect(&src, 9, 1, "ended before `0` at 11:5");
+    // Lenient: a warning, and the scene is read.
+    let lenient = ParseOptions { lenient: true, ..Default::default() };
+    let parsed = nff::parse(format!("{VIEW}s 0 0 0 1 2\ns 0 0 0 1\n").as_bytes(), &lenient).unwrap();
+    assert_eq!(parsed.scene.primitives.len(), 2);
+    assert!(parsed.diagnostics[0].message.contains("extra value `2`"));
+}
+
+#[test]
+fn utf16_files_are_named_as_such() {
+    let text = format!("{VIEW}s 0 0 0 1\n");
+    let le: Vec<u8> = text.encode_utf16().flat_map(u16::to_le_bytes).collect();
+    let be: Vec<u8> = text.encode_utf16().flat_map(u16::to_be_bytes).collect();
+    let le_bom = [&[0xFF, 0xFE][..], &le].concat();
+    for (bytes, encoding) in [(le, "UTF-16LE"), (be, "UTF-16BE"), (le_bom, "UTF-16LE")] {
+        let d = nff::parse(&bytes, &ParseOptions::default()).unwrap_err().first_error().clone();
+        assert_eq!((d.line, d.column), (1, 1));
+        assert!(d.message.contains(&format!("the file is {encoding} text")), "{d}");
+        assert!(d.note.unwrap().contains("iconv"));
+    }
+}
+
+#[test]
+fn view_errors_name_what_overflows_or_underflows() {
+    let view = |from: &str, at: &str, up: &str| {
+        format!("v\nfrom {from}\nat {at}\nup {up}\nangle 45\nhither 1\nresolution 8 8\ns 0 0 0 1\n")
+    };
+    expect(&view("1e300 -5 0", "0 0 0", "0 1 0"), 2, 1, "`from` coordinate 1e300 is beyond");
+    expect(&view("0 0 5", "0 0 0", "0 0 1e-300"), 4, 1, "`up` is too short");
+    expect(&view("0 0 5", "0 0 0", "0 0 0"), 4, 1, "`up` is zero");
+    expect(&view("0 0 1e-300", "0 0 0", "0 1 0"), 3, 1, "`at` is only 1e-300 from `from`");
+    // Short but not too short: read.
+    let fine = view("0 0 5", "0 0 0", "0 1e-150 0");
+    assert!(nff::parse(fine.as_bytes(), &ParseOptions::default()).is_ok());
+}

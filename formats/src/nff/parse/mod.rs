@@ -11,10 +11,13 @@
 //! infinite plane through three points, and `aabb xmin ymin zmin xmax ymax
 //! zmax`, an axis-aligned box. Each use is reported as a note.
 
+mod misplaced;
+mod view;
+
 use super::diag::{Diagnostic, Severity};
 use super::geometry_checks;
 use super::lexer::{Lexer, Token};
-use crate::scene::{Light, Material, Primitive, Scene, Shape, SourceLine, View};
+use crate::scene::{Light, Material, Primitive, Scene, Shape, SourceLine};
 
 use glam::DVec3;
 use std::fmt;
@@ -84,6 +87,9 @@ pub fn parse_sequential(src: &[u8], opts: &ParseOptions) -> Result<Parsed, Parse
         Some(rest) => (rest, true),
         None => (src, false),
     };
+    if let Some(encoding) = utf16(src) {
+        return Err(utf16_error(encoding));
+    }
     let mut p = Parser::new(strip_dos_eof(src), 1, *opts);
     p.scene.primitives.reserve(primitives_hint(src.len()));
     if bom {
@@ -98,6 +104,50 @@ pub fn parse_sequential(src: &[u8], opts: &ParseOptions) -> Result<Parsed, Parse
     }
     p.run();
     p.finish()
+}
+
+/// The error for a file in `encoding`, a UTF-16 one.
+#[cold]
+fn utf16_error(encoding: &str) -> ParseError {
+    ParseError {
+        diagnostics: vec![Diagnostic {
+            severity: Severity::Error,
+            line: 1,
+            column: 1,
+            width: 1,
+            message: format!("the file is {encoding} text; NFF is ASCII"),
+            note: Some(format!(
+                "convert it first, e.g. `iconv -f {encoding} -t UTF-8 scene.nff > scene-utf8.nff` \
+                 (Windows editors and PowerShell's `>` write UTF-16)"
+            )),
+        }],
+    }
+}
+
+/// The encoding, if `src` is UTF-16: it starts with a UTF-16 byte-order
+/// mark, or its first characters are ASCII each paired with a NUL byte.
+pub(super) fn utf16(src: &[u8]) -> Option<&'static str> {
+    match src {
+        [0xFF, 0xFE, ..] => return Some("UTF-16LE"),
+        [0xFE, 0xFF, ..] => return Some("UTF-16BE"),
+        _ => {}
+    }
+    let start = &src[..src.len().min(128)];
+    let ascii_then_nul = |a: u8, b: u8| a != 0 && a.is_ascii() && b == 0;
+    let all = |order: fn(&[u8]) -> (u8, u8)| {
+        start.len() >= 4
+            && start.chunks_exact(2).all(|p| {
+                let (a, b) = order(p);
+                ascii_then_nul(a, b)
+            })
+    };
+    if all(|p| (p[0], p[1])) {
+        Some("UTF-16LE")
+    } else if all(|p| (p[1], p[0])) {
+        Some("UTF-16BE")
+    } else {
+        None
+    }
 }
 
 /// One chunk of a file, read on its own as a fragment: its scene (material
@@ -194,20 +244,20 @@ impl What<'_> {
     }
 }
 
-/// The values of a view block as they are read.
-#[derive(Default)]
-struct ViewValues {
-    /// from, at, up.
-    vecs: [DVec3; 3],
-    angle: f64,
-    hither: f64,
-    res: [u32; 2],
+/// A count: a whole number, written as an integer or (as some exporters
+/// write `512.0`) a float with no fraction.
+fn whole_number(text: &[u8]) -> Option<u64> {
+    let text = std::str::from_utf8(text).ok()?;
+    text.parse::<u64>().ok().or_else(|| {
+        let f = text.parse::<f64>().ok()?;
+        (f.fract() == 0.0 && f >= 0.0 && f <= u64::MAX as f64).then_some(f as u64)
+    })
 }
 
 /// The entity being read, for notes on truncated input.
 #[derive(Clone, Copy)]
-struct Entity<'a> {
-    keyword: &'a str,
+struct Entity {
+    keyword: &'static str,
     line: u32,
 }
 
@@ -221,6 +271,9 @@ struct Parser<'a> {
     first_object_line: Option<u32>,
     /// Whether a `v` keyword was read (even one whose block had errors).
     view_seen: bool,
+    /// The keyword of the last entity read, for blaming an extra value on
+    /// it (the rest is read again when that happens).
+    read: Option<Token<'a>>,
     /// The last token read, for the position just after it (where an
     /// unexpected end of file is reported); kept whole so the width is
     /// only counted when such an error happens.
@@ -245,6 +298,7 @@ impl<'a> Parser<'a> {
             errors: 0,
             first_object_line: None,
             view_seen: false,
+            read: None,
             last: None,
             last_column: std::cell::Cell::new((0, 0, 1)),
         }
@@ -372,13 +426,7 @@ impl<'a> Parser<'a> {
         let Some(t) = self.peek() else {
             return Err(self.eof_error(What::Text(what), entity));
         };
-        let text = std::str::from_utf8(t.text).unwrap_or("");
-        let value = text.parse::<u64>().ok().or_else(|| {
-            // Accept `512.0` as written by some exporters, nothing fractional.
-            let f = text.parse::<f64>().ok()?;
-            (f.fract() == 0.0 && f >= 0.0 && f <= u64::MAX as f64).then_some(f as u64)
-        });
-        match value {
+        match whole_number(t.text) {
             Some(n) if (min..=max).contains(&n) => {
                 self.bump();
                 Ok((n, t))
@@ -439,6 +487,7 @@ impl<'a> Parser<'a> {
             return self.unknown(t);
         };
         let e = Entity { keyword: kw, line: t.line };
+        self.read = Some(t);
         match kw {
             "v" => self.view(t, e),
             "b" => {
@@ -458,30 +507,37 @@ impl<'a> Parser<'a> {
                 Ok(())
             }
             "c" => self.cone(t, e),
-            "p" | "pp" => self.polygon(t, e, kw == "pp"),
+            "p" | "pp" => self.polygon(t, e, kw == "pp").map_err(|d| self.blame_odd_line(d, &t)),
             "pl" | "aabb" => self.extension(t, e),
             _ => unreachable!("every entity keyword is matched"),
         }
     }
 
     fn unknown(&mut self, t: Token<'a>) -> Res<()> {
-        let msg = format!("unknown entity `{}`", t.display());
-        if self.opts.lenient {
-            let mut d = self.diag_at(Severity::Warning, &t, msg);
+        let number = parse_number(t.text).is_some();
+        let mut d = match self.read.filter(|_| number) {
+            Some(read) => self.extra_value(&t, read),
+            None => {
+                let mut d = self.error_at(&t, format!("unknown entity `{}`", t.display()));
+                d.note = Some(
+                    "NFF entities are v, b, l, f, c, s, p, pp (and the extensions pl, aabb); \
+                     --lenient skips unknown ones"
+                        .into(),
+                );
+                d
+            }
+        };
+        if !self.opts.lenient {
+            return Err(d);
+        }
+        d.severity = Severity::Warning;
+        if !number {
             d.note =
                 Some("skipped up to the next known keyword or line starting with a word (--lenient)".into());
-            self.diags.push(d);
-            self.skip_to_keyword();
-            Ok(())
-        } else {
-            let mut d = self.error_at(&t, msg);
-            d.note = Some(
-                "NFF entities are v, b, l, f, c, s, p, pp (and the extensions pl, aabb); \
-                 --lenient skips unknown ones"
-                    .into(),
-            );
-            Err(d)
         }
+        self.diags.push(d);
+        self.skip_to_keyword();
+        Ok(())
     }
 
     fn object(&mut self, t: Token, shape: Shape) {
@@ -628,136 +684,6 @@ impl<'a> Parser<'a> {
         };
         self.object(t, shape);
         Ok(())
-    }
-
-    /// The `v` block. Every error in it is reported: a broken line is
-    /// skipped up to the next view keyword, a missing line is reported where
-    /// it was expected, and the values are checked as far as they were read.
-    fn view(&mut self, t: Token<'a>, e: Entity) -> Res<()> {
-        self.view_seen = true;
-        if self.scene.view.is_some() {
-            self.warn(&t, "second view (`v`); it replaces the first".into());
-        }
-        self.warn_if_after_objects(&t, "view");
-        let mut seen: [Option<Token<'a>>; 6] = [None; 6];
-        let mut ok = [false; 6];
-        let mut v = ViewValues::default();
-        let mut errors = Vec::new();
-        while let Some(k) = self.peek() {
-            let Some(i) = VIEW_KEYWORDS.iter().position(|w| *w == k.text) else { break };
-            self.bump();
-            if seen[i].is_some() {
-                self.warn(&k, format!("`{}` given twice in one view; the last one counts", k.display()));
-            }
-            seen[i] = Some(k);
-            match self.view_line(i, e, &mut v) {
-                Ok(()) => ok[i] = true,
-                Err(d) => {
-                    errors.push(d);
-                    while let Some(n) = self.peek() {
-                        if VIEW_KEYWORDS.contains(&n.text) || is_recovery_point(&n) {
-                            break;
-                        }
-                        self.bump();
-                    }
-                }
-            }
-        }
-        for i in (0..6).filter(|&i| seen[i].is_none() && i != 4) {
-            errors.push(self.missing_view_line(i, &seen));
-        }
-        if seen[4].is_none() {
-            self.warn(&t, "the view has no `hither` line; using 0".into());
-        }
-        errors.extend(self.check_view(&seen, &ok, &mut v));
-        let Some(last) = errors.pop() else {
-            let ViewValues { vecs: [from, at, up], angle, hither, res } = v;
-            self.scene.view = Some(View { from, at, up, angle, hither, resolution: res });
-            return Ok(());
-        };
-        for d in errors {
-            self.push_error(d);
-        }
-        Err(last)
-    }
-
-    /// The values after view keyword `i`.
-    fn view_line(&mut self, i: usize, e: Entity, v: &mut ViewValues) -> Res<()> {
-        match i {
-            0..=2 => {
-                let what = ["a `from` coordinate", "an `at` coordinate", "an `up` coordinate"][i];
-                v.vecs[i] = self.vec3(What::Text(what), e)?;
-            }
-            3 => v.angle = self.number(What::Text("the field of view angle in degrees"), e)?,
-            4 => v.hither = self.number(What::Text("the hither distance"), e)?,
-            _ => {
-                for r in &mut v.res {
-                    *r = self.count("a resolution in pixels", 1, MAX_RESOLUTION, e)?.0 as u32;
-                }
-            }
-        }
-        Ok(())
-    }
-
-    /// "expected `at`, found `up`": at the next view line present, or at
-    /// whatever follows the block.
-    fn missing_view_line(&mut self, i: usize, seen: &[Option<Token<'a>>; 6]) -> Diagnostic {
-        let kw = String::from_utf8_lossy(VIEW_KEYWORDS[i]);
-        let note = Some(
-            "a view is: v, from x y z, at x y z, up x y z, angle deg, hither d, resolution w h".to_string(),
-        );
-        let found = seen[i + 1..].iter().flatten().next().copied().or_else(|| self.peek());
-        match found {
-            Some(f) => {
-                let mut d =
-                    self.error_at(&f, format!("expected the view's `{kw}` line, found `{}`", f.display()));
-                d.note = note;
-                d
-            }
-            None => Diagnostic {
-                severity: Severity::Error,
-                line: self.eof().0,
-                column: self.eof().1,
-                width: 1,
-                message: format!("unexpected end of file: expected the view's `{kw}` line"),
-                note,
-            },
-        }
-    }
-
-    /// The checks on the view's values, each run when the lines it needs
-    /// were read.
-    fn check_view(
-        &mut self,
-        seen: &[Option<Token<'a>>; 6],
-        ok: &[bool; 6],
-        v: &mut ViewValues,
-    ) -> Vec<Diagnostic> {
-        let mut errors = Vec::new();
-        let [from, at, up] = v.vecs;
-        if ok[0] && ok[1] && from == at {
-            let at_tok = seen[1].expect("a line read is a line seen");
-            errors.push(self.error_at(&at_tok, "`at` is the same point as `from`: no view direction".into()));
-        } else if ok[0] && ok[1] && ok[2] {
-            let dir = (at - from).normalize();
-            if up.length() == 0.0 || up.normalize().cross(dir).length() < 1e-9 {
-                let up_tok = seen[2].expect("a line read is a line seen");
-                errors.push(self.error_at(&up_tok, "`up` is zero or parallel to the view direction".into()));
-            }
-        }
-        if ok[3] && !(v.angle > 0.0 && v.angle < 180.0) {
-            let angle_tok = seen[3].expect("a line read is a line seen");
-            errors.push(self.error_at(
-                &angle_tok,
-                format!("`angle` must be between 0 and 180 degrees, found {}", v.angle),
-            ));
-        }
-        if ok[4] && v.hither < 0.0 {
-            let hither_tok = seen[4].expect("a line read is a line seen");
-            self.warn(&hither_tok, format!("negative hither {}; using 0", v.hither));
-            v.hither = 0.0;
-        }
-        errors
     }
 
     fn finish(mut self) -> Result<Parsed, ParseError> {
