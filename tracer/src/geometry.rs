@@ -88,15 +88,38 @@ pub enum Kind {
 const FIRST_UNBOUNDED: Kind = Kind::Plane;
 const _: () = assert!(FIRST_UNBOUNDED as usize == Kind::COUNT - 1, "unbounded kinds come last");
 
-/// Per-primitive data the hit tests do not need: material, culling, normals.
+/// Per-primitive data the hit tests do not need: material, culling,
+/// normals, where in the file it came from.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct PrimInfo {
     /// Index into the scene's materials.
     pub material: u32,
+    /// For triangles from a `pp` patch: index into
+    /// [`Geometry::patch_normals`]; [`PrimInfo::NO_PATCH`] for the rest.
+    patch: u32,
+    /// The line of the file the primitive came from (0: none), for
+    /// messages.
+    pub line: u32,
     /// Which side may be hit.
     pub cull: Cull,
+}
+
+const _: () = assert!(std::mem::size_of::<PrimInfo>() == 16, "PrimInfo fits 16 bytes");
+
+impl PrimInfo {
+    const NO_PATCH: u32 = u32::MAX;
+
+    /// The record of a primitive with `material` and `cull`, from `line`,
+    /// with patch normals `patch`.
+    pub fn new(material: u32, cull: Cull, patch: Option<u32>, line: u32) -> PrimInfo {
+        PrimInfo { material, patch: patch.unwrap_or(Self::NO_PATCH), line, cull }
+    }
+
     /// For triangles from a `pp` patch: index into [`Geometry::patch_normals`].
-    pub patch: Option<u32>,
+    #[inline]
+    pub fn patch(&self) -> Option<u32> {
+        (self.patch != Self::NO_PATCH).then_some(self.patch)
+    }
 }
 
 /// A hit: enough to find the surface later, nothing more.
@@ -272,7 +295,7 @@ impl Geometry {
                 // The point from barycentrics is more exact than o + t d.
                 let w = 1.0 - hit.u - hit.v;
                 let p = a * w + b * hit.u + c * hit.v;
-                let ns = match self.info[hit.prim as usize].patch {
+                let ns = match self.info[hit.prim as usize].patch() {
                     Some(k) => {
                         let [n0, n1, n2] = self.patch_normals[k as usize];
                         let n = (n0 * w + n1 * hit.u + n2 * hit.v).normalize_or_zero();
@@ -609,7 +632,7 @@ mod tests {
         assert!((t - 4.25).abs() < 1e-5, "{t}");
         let mut g = Geometry {
             cones: vec![c],
-            info: vec![PrimInfo { material: 0, cull: Cull::None, patch: None }],
+            info: vec![PrimInfo::new(0, Cull::None, None, 0)],
             ..Default::default()
         };
         g.assign_ids();

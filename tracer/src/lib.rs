@@ -27,6 +27,7 @@ pub mod film;
 pub mod filter;
 pub mod light;
 pub mod prepare;
+pub mod probe;
 pub mod render;
 pub mod sampling;
 pub mod simd;

@@ -195,7 +195,7 @@ pub(crate) fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_s
                 Cull::None
             }
         };
-        let record = |cull, patch| PrimInfo { material, cull, patch };
+        let record = |cull, patch| PrimInfo::new(material, cull, patch, prim.line.0);
         match &prim.shape {
             Shape::Sphere { center, radius } => {
                 if *radius == 0.0 {

@@ -29,7 +29,7 @@ pub fn spheres(n: usize, mut place: impl FnMut(usize) -> (Vec3A, f32)) -> Geomet
     for i in 0..n {
         let (center, radius) = place(i);
         g.spheres.push(Sphere { center, radius });
-        g.info.push(PrimInfo { material: 0, cull: Cull::None, patch: None });
+        g.info.push(PrimInfo::new(0, Cull::None, None, 0));
     }
     g.assign_ids();
     g

@@ -3,7 +3,8 @@
 //! writing the image and printing statistics. The work itself is done by
 //! `nffkit_tracer`; validation is done before anything here runs.
 
-use super::{check, lighting, part, report, spd_published};
+use super::scene_warnings::scene_warnings;
+use super::{check, part, report, spd_published};
 use crate::gen::default_scene;
 use crate::input;
 use crate::render::args::{Command, RenderArgs, RenderConfig};
@@ -77,8 +78,10 @@ fn render_command(cfg: &RenderConfig) -> Result<()> {
     };
     let t_parse = t_start.elapsed().as_secs_f64();
     let prepared = prepare(&scene, &cfg.prepare).with_context(|| name.clone())?;
-    if let Some(w) = lighting::unlit_warning(&scene, prepared.ambient > 0.0).filter(|_| !cfg.quiet) {
-        eprintln!("warning: {name}: {w}");
+    if !cfg.quiet {
+        for w in scene_warnings(&scene, Some(&prepared), prepared.ambient > 0.0) {
+            eprint!("{}", w.render(&name));
+        }
     }
     if let Some(w) = prepared.accel_info().warning.filter(|_| !cfg.quiet) {
         eprintln!("warning: {name}: {w}");

@@ -430,3 +430,42 @@ fn warnings_on_one_long_line_stay_small() {
     assert_eq!(String::from_utf8_lossy(&out.stderr).matches("warning: patch normal").count(), 5000);
     assert!(out.stderr.len() < 3 << 20, "{} bytes of warnings", out.stderr.len());
 }
+
+/// A closed box seen from outside whose front wall faces inwards (away
+/// from the camera), lit from a point in that wall's plane: the author
+/// meant the interior, which the spec's one-sided rule shows.
+const BOX_SEEN_FROM_BEHIND: &str =
+    "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 30\nhither 1\nresolution 32 32\n\
+    l 0 0.5 1\nf 0.8 0.8 0.8 1 0 0 0 1\n\
+    p 4\n-1 -1 -1\n1 -1 -1\n1 1 -1\n-1 1 -1\n\
+    p 4\n-1 -1 1\n-1 1 1\n1 1 1\n1 -1 1\n\
+    p 4\n-1 -1 -1\n-1 -1 1\n1 -1 1\n1 -1 -1\n\
+    p 4\n-1 1 -1\n1 1 -1\n1 1 1\n-1 1 1\n\
+    p 4\n-1 -1 -1\n-1 1 -1\n-1 1 1\n-1 -1 1\n\
+    p 4\n1 -1 -1\n1 -1 1\n1 1 1\n1 1 -1\n";
+
+#[test]
+fn a_view_of_back_faces_lit_edge_on_is_warned_not_silently_black() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("box.nff");
+    std::fs::write(&f, BOX_SEEN_FROM_BEHIND).unwrap();
+    let path = f.to_str().unwrap();
+    let in_plane = "light 1 at (0, 0.5, 1) lies in the plane of the polygon on line 15";
+    let backs = "of the view is the back of opaque surfaces (the first on line 15)";
+    let o = run(RENDER, &["--check", path], None);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success() && err.contains(in_plane) && err.contains(backs), "{err}");
+    assert!(err.contains("box.nff:15"), "{err}");
+    assert!(String::from_utf8_lossy(&o.stdout).contains("2 warnings"));
+    // Rendered as it is, it is black and both are said; one-sided, the
+    // interior shows and only the light in the plane is.
+    let out = dir.path().join("b.png");
+    let o = run(RENDER, &[path, "-o", out.to_str().unwrap()], None);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success() && err.contains(in_plane) && err.contains(backs), "{err}");
+    assert!(png(&out).pixels().all(|p| p.0 == [0, 0, 0]));
+    let o = run(RENDER, &[path, "-o", out.to_str().unwrap(), "--one-sided"], None);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success() && err.contains(in_plane) && !err.contains(backs), "{err}");
+    assert!(png(&out).pixels().filter(|p| p.0[0] > 50).count() > 32 * 32 / 2);
+}

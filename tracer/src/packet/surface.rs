@@ -83,7 +83,7 @@ pub(crate) fn surfaces(
                 g.radius.0[i] = s.radius;
                 g.kind.0[i] = SPHERE;
             }
-            (Kind::Triangle, k) if geom.info[id as usize].patch.is_none() => {
+            (Kind::Triangle, k) if geom.info[id as usize].patch().is_none() => {
                 let [a, b, c] = geom.triangles[k].v;
                 set_lane(&mut g.a, i, a);
                 set_lane(&mut g.b, i, b);

@@ -1,0 +1,191 @@
+//! Warnings about a scene as a whole, shared by `render` and `render
+//! --check`: the ways a file that reads cleanly still renders black without
+//! a word. A scene with no lights renders black (background aside) unless
+//! ambient light is asked for, and several public NFF files have none, or
+//! only dialect lights that `--lenient` skipped. A light in the plane of a
+//! flat surface gives it nothing (N·L = 0 all over it). And a view filled
+//! by the backs of opaque surfaces is drawn where the spec's one-sided
+//! rule would see through them (see [`nffkit_tracer::probe`]).
+
+use nffkit_formats::nff::escape;
+use nffkit_formats::polygon::newell_normal;
+use nffkit_formats::{Scene, Shape};
+use nffkit_tracer::prepare::RenderScene;
+use nffkit_tracer::probe::probe_view;
+
+use glam::DVec3;
+
+/// A warning about the scene, with the line it points at when there is one.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneWarning {
+    /// What is wrong and what to do.
+    pub message: String,
+    /// The line of the file it concerns.
+    pub line: Option<u32>,
+}
+
+impl SceneWarning {
+    /// Compiler-style, as the reader's warnings are printed (without the
+    /// source line).
+    pub fn render(&self, file: &str) -> String {
+        let at = self.line.map(|l| format!(":{l}")).unwrap_or_default();
+        format!("warning: {}\n --> {}{at}\n", escape(&self.message), escape(file))
+    }
+}
+
+/// Every warning about `scene`; those about the view only when it was
+/// prepared (`prepared`). `ambient`: whether `--ambient` lights it.
+pub fn scene_warnings(scene: &Scene, prepared: Option<&RenderScene>, ambient: bool) -> Vec<SceneWarning> {
+    let mut out: Vec<SceneWarning> = unlit(scene, ambient).into_iter().collect();
+    out.extend(lights_in_surface_planes(scene));
+    out.extend(prepared.and_then(back_faces_in_view));
+    out
+}
+
+/// The warning to print when `scene` has no lights and nothing else lights
+/// it (`ambient`: whether `--ambient` is on).
+pub fn unlit(scene: &Scene, ambient: bool) -> Option<SceneWarning> {
+    if !scene.lights.is_empty() || scene.primitives.is_empty() || ambient {
+        return None;
+    }
+    Some(SceneWarning {
+        message: "the scene has no lights (`l`): its objects render black; \
+                  `render --ambient spd` (or a value) lights them evenly"
+            .into(),
+        line: None,
+    })
+}
+
+/// Above this many light-surface pairs the planes are not checked (a
+/// scene of millions of polygons and many lights).
+const MAX_PAIRS: usize = 1 << 26;
+
+/// How close to a plane, relative to the distances involved, a light is in
+/// it: N·L at most 1e-6 on the surface (a grazing 0.00006 degrees). Only
+/// a light put in the plane on purpose comes this close: the nearest of
+/// mount_s7's 32,768 triangles to its light is at 6.4e-6.
+const IN_PLANE: f64 = 1e-6;
+
+/// One warning per light that lies in the plane of flat surfaces
+/// (polygons, infinite planes, box faces; not patches, whose shading
+/// normals vary): the first such surface's line and how many more.
+pub fn lights_in_surface_planes(scene: &Scene) -> Vec<SceneWarning> {
+    let lights = &scene.lights;
+    if lights.is_empty() || lights.len().saturating_mul(scene.primitives.len()) > MAX_PAIRS {
+        return Vec::new();
+    }
+    // Per light: surfaces in its plane, and the first one's line and kind.
+    let mut found: Vec<(usize, Option<(u32, &'static str)>)> = vec![(0, None); lights.len()];
+    for prim in &scene.primitives {
+        for (light, (count, first)) in lights.iter().zip(&mut found) {
+            if in_a_plane_of(&prim.shape, light.position) {
+                *count += 1;
+                first.get_or_insert((prim.line.0, prim.shape.kind().name()));
+            }
+        }
+    }
+    let mut out = Vec::new();
+    for (k, (light, (count, first))) in lights.iter().zip(found).enumerate() {
+        let Some((line, kind)) = first else { continue };
+        let p = light.position;
+        let more = if count > 1 { format!(" and {} more surfaces", count - 1) } else { String::new() };
+        out.push(SceneWarning {
+            message: format!(
+                "light {} at ({}, {}, {}) lies in the plane of the {kind} on line {line}{more}: \
+                 it gives {} no light (N·L = 0 all over), so {} black or lit by other lights only",
+                k + 1,
+                p.x,
+                p.y,
+                p.z,
+                if count > 1 { "them" } else { "it" },
+                if count > 1 { "they render" } else { "it renders" },
+            ),
+            line: Some(line),
+        });
+    }
+    out
+}
+
+/// Whether `light` lies in the plane of `shape` (one of a box's faces).
+fn in_a_plane_of(shape: &Shape, light: DVec3) -> bool {
+    let near = |distance: f64, scale: f64| distance.abs() <= IN_PLANE * scale;
+    match shape {
+        Shape::Polygon { vertices } => {
+            let n = newell_normal(vertices).normalize_or_zero();
+            let origin = vertices[0];
+            let radius = vertices.iter().map(|v| v.distance(origin)).fold(0.0, f64::max);
+            n != DVec3::ZERO && near(n.dot(light - origin), light.distance(origin) + radius)
+        }
+        Shape::Plane { points: [a, b, c] } => {
+            let n = (*b - *a).cross(*c - *a).normalize_or_zero();
+            n != DVec3::ZERO && near(n.dot(light - *a), light.distance(*a))
+        }
+        Shape::Box { min, max } => {
+            let scale = light.distance((*min + *max) / 2.0) + min.distance(*max);
+            (0..3).any(|a| near(light[a] - min[a], scale) || near(light[a] - max[a], scale))
+        }
+        Shape::Sphere { .. } | Shape::Cone { .. } | Shape::Patch { .. } => false,
+    }
+}
+
+/// Eye rays in the probe, per side.
+const PROBE_SIDE: u32 = 32;
+
+/// The warning when most of the view is the backs of opaque surfaces,
+/// which two-sided shading draws and the spec's one-sided rule culls.
+pub fn back_faces_in_view(prepared: &RenderScene) -> Option<SceneWarning> {
+    let probe = probe_view(prepared, PROBE_SIDE);
+    let share = probe.back_face_share();
+    if share <= 0.5 {
+        return None;
+    }
+    let first = probe.first_back_face_line.map(|l| format!(" (the first on line {l})")).unwrap_or_default();
+    Some(SceneWarning {
+        message: format!(
+            "{:.0}% of the view is the back of opaque surfaces{first}: they face away from the \
+             camera, and NFF.TXT makes opaque objects one-sided, so the spec sees through them; \
+             `render --one-sided` does too (the default draws both sides)",
+            share * 100.0
+        ),
+        line: probe.first_back_face_line,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nffkit_formats::nff::{parse, ParseOptions};
+
+    fn scene(src: &str) -> Scene {
+        parse(src.as_bytes(), &ParseOptions { fragment: true, ..Default::default() }).unwrap().scene
+    }
+
+    #[test]
+    fn unlit_warns_only_for_objects_without_any_light() {
+        assert!(unlit(&scene("s 0 0 0 1\n"), false).is_some());
+        assert!(unlit(&scene("s 0 0 0 1\n"), true).is_none());
+        assert!(unlit(&scene("l 1 1 1\ns 0 0 0 1\n"), false).is_none());
+        assert!(unlit(&scene("b 1 1 1\n"), false).is_none());
+    }
+
+    #[test]
+    fn a_light_in_a_surface_plane_is_named_once_with_its_count() {
+        let square = |z: f64| format!("p 4\n-1 -1 {z}\n1 -1 {z}\n1 1 {z}\n-1 1 {z}\n");
+        // Two squares in the plane z = 0 (lines 2 and 7), one at z = 1.
+        let src = format!("l 5 5 0\n{}{}{}", square(0.0), square(0.0), square(1.0));
+        let w = lights_in_surface_planes(&scene(&src));
+        assert_eq!(w.len(), 1);
+        assert_eq!(w[0].line, Some(2));
+        assert!(w[0]
+            .message
+            .contains("light 1 at (5, 5, 0) lies in the plane of the polygon on line 2 and 1 more"));
+        // Off the plane by a hundredth: lit at a grazing angle, no warning.
+        assert!(lights_in_surface_planes(&scene(&format!("l 5 5 0.01\n{}", square(0.0)))).is_empty());
+        // An infinite plane and a box face.
+        assert_eq!(lights_in_surface_planes(&scene("l 3 0 0\npl 0 0 0 1 0 0 0 1 0\n")).len(), 1);
+        assert_eq!(lights_in_surface_planes(&scene("l 1 7 7\naabb -1 -1 -1 1 1 1\n")).len(), 1);
+        // Patches shade with their own normals: not warned.
+        let patch = "l 5 5 0\npp 3\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n";
+        assert!(lights_in_surface_planes(&scene(patch)).is_empty());
+    }
+}

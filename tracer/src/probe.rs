@@ -1,0 +1,111 @@
+//! A look through the camera before rendering: a coarse grid of eye rays,
+//! for what a renderer should say before it spends its time. NFF.TXT makes
+//! every opaque object one-sided, but the renderer shades both sides by
+//! default (most real files wind some polygons the wrong way); a view
+//! filled by the backs of opaque surfaces is then drawn where the spec
+//! would see through them, and lit edge-on it renders black.
+
+use crate::accel::{with_accel, Intersector, Tracer};
+use crate::geometry::Cull;
+use crate::math::RayQuery;
+use crate::prepare::RenderScene;
+use glam::Vec2;
+
+/// What the probe's eye rays hit.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ViewProbe {
+    /// Eye rays traced.
+    pub rays: u32,
+    /// Those that hit something.
+    pub hits: u32,
+    /// Those whose nearest hit is the back of an opaque surface that is
+    /// drawn only because shading is two-sided (the spec's one-sided rule
+    /// would cull it).
+    pub back_faces: u32,
+    /// The line of the file of the first such surface met (row by row from
+    /// the top left), when known.
+    pub first_back_face_line: Option<u32>,
+}
+
+impl ViewProbe {
+    /// The share of the view that is such backs of surfaces.
+    pub fn back_face_share(&self) -> f64 {
+        if self.rays == 0 {
+            0.0
+        } else {
+            self.back_faces as f64 / self.rays as f64
+        }
+    }
+}
+
+/// Trace `n` × `n` eye rays spread evenly over the image (through the
+/// centres of an `n` × `n` grid of cells, pinhole) and tell what they hit.
+pub fn probe_view(scene: &RenderScene, n: u32) -> ViewProbe {
+    with_accel!(&scene.accel, a => probe_with(scene, a, n))
+}
+
+fn probe_with<I: Intersector>(scene: &RenderScene, accel: &I, n: u32) -> ViewProbe {
+    let geom = &scene.geometry;
+    let mut tracer = Tracer::new(accel, geom);
+    let (w, h) = scene.camera.resolution();
+    let mut probe = ViewProbe::default();
+    for j in 0..n {
+        for i in 0..n {
+            let x = (i as f32 + 0.5) / n as f32 * w as f32;
+            let y = (j as f32 + 0.5) / n as f32 * h as f32;
+            let (ray, t_min) = scene.camera.ray(x, y, Vec2::ZERO);
+            let q = RayQuery::new(ray, t_min);
+            probe.rays += 1;
+            let Some(hit) = tracer.nearest(&q, f32::INFINITY) else { continue };
+            probe.hits += 1;
+            let info = &geom.info[hit.prim as usize];
+            let opaque = scene.materials[info.material as usize].t <= 0.0;
+            let back = geom.surface(&hit, &q).ng.dot(ray.d) > 0.0;
+            if opaque && back && info.cull == Cull::None {
+                probe.back_faces += 1;
+                if info.line > 0 && probe.first_back_face_line.is_none() {
+                    probe.first_back_face_line = Some(info.line);
+                }
+            }
+        }
+    }
+    probe
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::prepare::{prepare, PrepareOptions};
+    use nffkit_formats::nff::{parse, ParseOptions};
+
+    const VIEW: &str = "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 30\nhither 1\nresolution 32 32\n";
+
+    fn probe(body: &str, one_sided: bool) -> ViewProbe {
+        let scene = parse(format!("{VIEW}{body}").as_bytes(), &ParseOptions::default()).unwrap().scene;
+        let prepared = prepare(&scene, &PrepareOptions { one_sided, ..Default::default() }).unwrap();
+        probe_view(&prepared, 8)
+    }
+
+    // A square filling the view, counter-clockwise (its front) seen from
+    // the camera or clockwise (its back).
+    const FRONT: &str = "p 4\n-2 -2 0\n2 -2 0\n2 2 0\n-2 2 0\n";
+    const BACK: &str = "p 4\n-2 -2 0\n-2 2 0\n2 2 0\n2 -2 0\n";
+
+    #[test]
+    fn the_back_of_an_opaque_polygon_is_counted_with_its_line() {
+        let p = probe(BACK, false);
+        assert_eq!((p.rays, p.hits, p.back_faces), (64, 64, 64));
+        assert_eq!(p.first_back_face_line, Some(8));
+        assert_eq!(probe(FRONT, false).back_faces, 0);
+    }
+
+    #[test]
+    fn culled_or_transmissive_backs_are_not_counted() {
+        // One-sided rendering culls it: nothing is hit.
+        let p = probe(BACK, true);
+        assert_eq!((p.hits, p.back_faces), (0, 0));
+        // Glass is two-sided under the spec too.
+        let glass = format!("f 1 1 1 0 0 0 0.9 1.5\n{BACK}");
+        assert_eq!(probe(&glass, false).back_faces, 0);
+    }
+}
