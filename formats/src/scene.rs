@@ -77,6 +77,12 @@ impl Default for Material {
     }
 }
 
+/// The largest coordinate or radius a shape may have to be rendered: the
+/// renderer works in single precision, and squared distances (up to 1e36
+/// and a few times that) must stay below `f32::MAX` (3.4e38). Larger
+/// shapes are read, warned about, and left out of renders.
+pub const MAX_COORDINATE: f64 = 1e18;
+
 /// A geometric primitive as written in the file.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Shape {
@@ -194,6 +200,23 @@ impl Shape {
             Shape::Box { min, max } => (min.min(*max), min.max(*max)),
             Shape::Plane { .. } => return None,
         })
+    }
+
+    /// The largest magnitude among the shape's coordinates and radii
+    /// (normals aside), to compare with [`MAX_COORDINATE`].
+    pub fn magnitude(&self) -> f64 {
+        let of = |v: &DVec3| v.abs().max_element();
+        match self {
+            Shape::Sphere { center, radius } => of(center).max(radius.abs()),
+            Shape::Cone { base, base_radius, apex, apex_radius } => {
+                of(base).max(of(apex)).max(base_radius.abs()).max(apex_radius.abs())
+            }
+            Shape::Polygon { vertices } | Shape::Patch { vertices, .. } => {
+                vertices.iter().map(of).fold(0.0, f64::max)
+            }
+            Shape::Plane { points } => points.iter().map(of).fold(0.0, f64::max),
+            Shape::Box { min, max } => of(min).max(of(max)),
+        }
     }
 
     /// The shape's kind.

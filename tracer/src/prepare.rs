@@ -9,6 +9,7 @@ use crate::material::WhittedMaterial;
 use crate::stats::PerKind;
 use glam::{DVec3, Vec3A};
 use nffkit_formats::polygon::triangulate;
+use nffkit_formats::scene::MAX_COORDINATE;
 use nffkit_formats::{Scene, Shape};
 use strum::EnumCount;
 use thiserror::Error;
@@ -143,6 +144,8 @@ pub fn prepare(scene: &Scene, opts: &PrepareOptions) -> Result<RenderScene, Prep
 /// intensity. SPD's convention for lights without a colour: each gets
 /// 1/sqrt(n), or 1/(2 sqrt(n)) with the SPD Readme's ambient term beside them.
 pub fn point_lights(lights: &[nffkit_formats::Light], ambient: Ambient) -> (Vec<PointLight>, f32) {
+    // Lights too far for single precision are left out (the reader warns).
+    let lights: Vec<_> = lights.iter().filter(|l| l.position.abs().max_element() <= MAX_COORDINATE).collect();
     let root_n = (lights.len().max(1) as f32).sqrt();
     let (default_i, ambient) = match ambient {
         Ambient::Value(a) => (1.0 / root_n, a),
@@ -183,7 +186,8 @@ pub(crate) fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_s
     let mut info: [Vec<PrimInfo>; Kind::COUNT] = Default::default();
     info[Kind::Sphere as usize].reserve_exact(spheres);
     info[Kind::Triangle as usize].reserve(triangles);
-    for prim in &scene.primitives {
+    // Shapes too large for single precision are left out (the reader warns).
+    for prim in scene.primitives.iter().filter(|p| p.shape.magnitude() <= MAX_COORDINATE) {
         let material = prim.material.map_or(0, |m| m + 1);
         let transmissive = materials[material as usize].t > 0.0;
         let cull = |inside_only: bool| {

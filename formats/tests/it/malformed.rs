@@ -243,3 +243,14 @@ fn view_errors_name_what_overflows_or_underflows() {
     let fine = view("0 0 5", "0 0 0", "0 1e-150 0");
     assert!(nff::parse(fine.as_bytes(), &ParseOptions::default()).is_ok());
 }
+
+#[test]
+fn shapes_and_lights_beyond_single_precision_are_warned_about() {
+    let src = format!("{VIEW}l 1e30 0 0\ns 0 0 0 1\nc\n0 0 0 1\n5e80 0 0 0\n");
+    let parsed = nff::parse(src.as_bytes(), &ParseOptions::default()).unwrap();
+    let at = |line: u32| parsed.diagnostics.iter().find(|d| d.line == line);
+    assert!(at(8).is_some_and(|d| d.message.contains("light's position has a coordinate of 1e30")));
+    assert!(at(9).is_none(), "{:?}", parsed.diagnostics);
+    let cone = at(10).expect("the cone is warned about");
+    assert!(cone.message.contains("cone is 5e80, beyond what single-precision"), "{cone}");
+}

@@ -17,7 +17,7 @@ mod view;
 use super::diag::{Diagnostic, Severity};
 use super::geometry_checks;
 use super::lexer::{Lexer, Token};
-use crate::scene::{Light, Material, Primitive, Scene, Shape, SourceLine};
+use crate::scene::{Light, Material, Primitive, Scene, Shape, SourceLine, MAX_COORDINATE};
 
 use glam::DVec3;
 use std::fmt;
@@ -542,8 +542,24 @@ impl<'a> Parser<'a> {
 
     fn object(&mut self, t: Token, shape: Shape) {
         self.first_object_line.get_or_insert(t.line);
+        if shape.magnitude() > MAX_COORDINATE {
+            self.too_large(&t, &shape);
+        }
         let material = self.scene.materials.len().checked_sub(1).map(|m| m as u32);
         self.scene.primitives.push(Primitive { shape, material, line: SourceLine(t.line) });
+    }
+
+    #[cold]
+    fn too_large(&mut self, t: &Token, shape: &Shape) {
+        self.warn(
+            t,
+            format!(
+                "a coordinate or radius of this {} is {:e}, beyond what single-precision rendering \
+                 holds (at most {MAX_COORDINATE:e}); renders leave it out",
+                shape.kind().name(),
+                shape.magnitude()
+            ),
+        );
     }
 
     fn warn_if_after_objects(&mut self, t: &Token, what: &str) {
@@ -564,6 +580,16 @@ impl<'a> Parser<'a> {
         let has_color = self.peek().is_some_and(|n| parse_number(n.text).is_some());
         let color =
             if has_color { Some(self.vec3(What::Text("a light colour component"), e)?) } else { None };
+        if position.abs().max_element() > MAX_COORDINATE {
+            self.warn(
+                &t,
+                format!(
+                    "the light's position has a coordinate of {:e}, beyond what single-precision \
+                     rendering holds (at most {MAX_COORDINATE:e}); renders leave it out",
+                    position.abs().max_element()
+                ),
+            );
+        }
         self.scene.lights.push(Light { position, color });
         Ok(())
     }

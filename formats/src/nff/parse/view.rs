@@ -6,7 +6,7 @@
 use super::{is_recovery_point, Entity, Parser, Res, What, MAX_RESOLUTION, VIEW_KEYWORDS};
 use crate::nff::diag::{Diagnostic, Severity};
 use crate::nff::lexer::Token;
-use crate::scene::View;
+use crate::scene::{View, MAX_COORDINATE};
 use glam::DVec3;
 
 /// The values of a view block as they are read.
@@ -126,15 +126,14 @@ impl<'a> Parser<'a> {
         let mut errors = Vec::new();
         let mut usable = *ok;
         for (i, vec) in v.vecs.iter().enumerate().filter(|&(i, _)| ok[i]) {
-            if let Some(x) = vec.to_array().into_iter().find(|x| x.abs() > f32::MAX as f64) {
+            if let Some(x) = vec.to_array().into_iter().find(|x| x.abs() > MAX_COORDINATE) {
                 let tok = seen[i].expect("a line read is a line seen");
                 errors.push(self.error_at(
                     &tok,
                     format!(
-                        "`{}` coordinate {x:e} is beyond what the renderer holds (single precision, \
-                         at most {:e})",
+                        "`{}` coordinate {x:e} is beyond what single-precision rendering holds \
+                         (at most {MAX_COORDINATE:e})",
                         tok.display(),
-                        f32::MAX
                     ),
                 ));
                 usable[i] = false;
