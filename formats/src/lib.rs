@@ -8,6 +8,8 @@
 #![deny(missing_docs)]
 
 pub mod atomic;
+#[doc(hidden)]
+pub mod fuzzing;
 pub mod image_io;
 pub mod mesh;
 pub mod nff;

@@ -25,6 +25,8 @@ pub mod bench;
 pub mod camera;
 pub mod film;
 pub mod filter;
+#[doc(hidden)]
+pub mod fuzzing;
 pub mod light;
 pub mod prepare;
 pub mod probe;

@@ -49,8 +49,14 @@ const GEOMETRY_EXTENSIONS: [&str; 3] =
 pub fn load(path: &Path, opts: &ImportOptions) -> Result<Mesh, MeshError> {
     let bytes =
         std::fs::read(path).map_err(|error| MeshError::Io { path: path.display().to_string(), error })?;
-    let raw = Gltf::from_slice_without_validation(&bytes).map_err(|e| {
-        let why = if is_gltf_1(&bytes) {
+    load_bytes(&bytes, path, opts)
+}
+
+/// Import glTF or GLB bytes read from `path` (which names the file in
+/// messages; the files it refers to are looked for beside it).
+pub fn load_bytes(bytes: &[u8], path: &Path, opts: &ImportOptions) -> Result<Mesh, MeshError> {
+    let raw = Gltf::from_slice_without_validation(bytes).map_err(|e| {
+        let why = if is_gltf_1(bytes) {
             "glTF 1.0 is not supported (only glTF 2.0; convert it first)".to_string()
         } else {
             format!("not a readable glTF file: {e}")
@@ -66,7 +72,7 @@ pub fn load(path: &Path, opts: &ImportOptions) -> Result<Mesh, MeshError> {
         }
     }
     let mut warnings = Vec::new();
-    let gltf = validated(raw, &bytes, path, &mut warnings)?;
+    let gltf = validated(raw, bytes, path, &mut warnings)?;
     let base = path.parent();
     check_buffer_files(&gltf.document, base, path, opts)?;
     let buffers = ::gltf::import_buffers(&gltf.document, base, gltf.blob.clone())
@@ -144,6 +150,13 @@ fn is_gltf_1(bytes: &[u8]) -> bool {
 /// (texture transforms, material extensions).
 fn validated(raw: Gltf, bytes: &[u8], path: &Path, warnings: &mut Vec<String>) -> Result<Gltf, MeshError> {
     use ::gltf::json::validation::Error as V;
+    // gltf-json's validation indexes the accessors with a primitive's
+    // POSITION before checking that it exists (a panic); such files are
+    // refused here first.
+    let missing = missing_attribute_accessors(raw.document.as_json());
+    if !missing.is_empty() {
+        return Err(MeshError::invalid(path, format!("invalid glTF: {}", missing.join("; "))));
+    }
     let errors = match Gltf::from_slice(bytes) {
         Ok(g) => return Ok(g),
         Err(::gltf::Error::Validation(errors)) => errors,
@@ -171,6 +184,31 @@ fn validated(raw: Gltf, bytes: &[u8], path: &Path, warnings: &mut Vec<String>) -
         ));
     }
     Ok(raw)
+}
+
+/// "meshes[0].primitives[1].attributes.POSITION: accessor 7 does not
+/// exist" for each vertex attribute naming an accessor past the last.
+fn missing_attribute_accessors(json: &::gltf::json::Root) -> Vec<String> {
+    let accessors = json.accessors.len();
+    let mut missing = Vec::new();
+    for (m, mesh) in json.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            for (semantic, index) in &primitive.attributes {
+                if index.value() >= accessors {
+                    let name = match semantic {
+                        ::gltf::json::validation::Checked::Valid(s) => s.to_string(),
+                        ::gltf::json::validation::Checked::Invalid => "(unknown)".to_string(),
+                    };
+                    missing.push(format!(
+                        "meshes[{m}].primitives[{p}].attributes.{name}: accessor {} does not exist \
+                         (the file has {accessors})",
+                        index.value()
+                    ));
+                }
+            }
+        }
+    }
+    missing
 }
 
 /// Every external buffer file is inside the model's folder (unless allowed)

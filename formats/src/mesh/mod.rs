@@ -155,6 +155,12 @@ pub fn load_obj_bytes(
     validate(name, obj::load_bytes(bytes, name, dir, opts)?)
 }
 
+/// Import glTF or GLB bytes read elsewhere: `name` is how messages call
+/// the file, and the files it refers to are looked for beside it.
+pub fn load_gltf_bytes(bytes: &[u8], name: &Path, opts: &ImportOptions) -> Result<Mesh, MeshError> {
+    validate(name, gltf::load_bytes(bytes, name, opts)?)
+}
+
 /// What every importer's mesh must satisfy: finite positions, some faces.
 fn validate(path: &Path, mesh: Mesh) -> Result<Mesh, MeshError> {
     if let Some((i, _)) = mesh.positions.iter().enumerate().find(|(_, p)| !p.is_finite()) {

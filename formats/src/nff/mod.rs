@@ -17,7 +17,6 @@ mod read;
 mod write;
 
 pub use diag::{escape, Diagnostic, Report, Severity, SHOWN_PER_KIND};
-pub use parallel::parse_in_chunks;
 pub use parse::{parse_sequential, ParseError, ParseOptions, Parsed};
-pub use read::parse;
+pub use read::{parse, parse_chunked};
 pub use write::{format_number, write, NffWriter};

@@ -32,7 +32,7 @@ pub fn default_chunks(len: usize) -> usize {
 /// Read `src` in `chunks` pieces on as many threads; `None` when the pieces
 /// cannot be joined into exactly what the sequential reader gives (then the
 /// caller reads the file in one piece).
-pub fn parse_in_chunks(src: &[u8], opts: &ParseOptions, chunks: usize) -> Option<Parsed> {
+pub(super) fn parse_in_chunks(src: &[u8], opts: &ParseOptions, chunks: usize) -> Option<Parsed> {
     let starts = split_points(src, chunks);
     if starts.len() < 2 {
         return None;

@@ -3,6 +3,7 @@
 //! would link the crate and its dependencies once each.
 
 mod course_and_recovery;
+mod fuzz_regressions;
 mod malformed;
 mod parallel_parse;
 mod properties;

@@ -2,7 +2,7 @@
 //! source lines and material numbering) and the same diagnostics as reading
 //! it in one piece.
 
-use nffkit_formats::nff::{self, parse_in_chunks, parse_sequential, ParseOptions};
+use nffkit_formats::nff::{self, parse_chunked, parse_sequential, ParseOptions};
 
 /// A scene of every entity kind, with material changes and lines of every
 /// shape, `n` groups long.
@@ -39,11 +39,11 @@ fn chunks_give_the_sequential_scene_exactly() {
     let one_plain = parse_sequential(plain.as_bytes(), &opts).unwrap();
     assert!(one_plain.diagnostics.is_empty(), "{:?}", one_plain.diagnostics.first());
     for chunks in [2, 3, 5, 8] {
-        let many = parse_in_chunks(plain.as_bytes(), &opts, chunks).expect("a quiet file joins");
+        let many = parse_chunked(plain.as_bytes(), &opts, chunks).expect("a quiet file joins");
         // Debug output includes every source line, which `==` ignores.
         assert_eq!(format!("{:?}", many.scene), format!("{:?}", one_plain.scene), "{chunks} chunks");
         assert!(
-            parse_in_chunks(src.as_bytes(), &opts, chunks).is_none(),
+            parse_chunked(src.as_bytes(), &opts, chunks).is_none(),
             "notes defer to the sequential reader"
         );
     }
@@ -66,5 +66,5 @@ fn a_large_file_with_errors_reports_what_the_sequential_reader_does() {
     let (a, b) =
         (nff::parse(quiet.as_bytes(), &opts).unwrap(), parse_sequential(quiet.as_bytes(), &opts).unwrap());
     assert_eq!(format!("{:?}", a.scene), format!("{:?}", b.scene));
-    assert!(parse_in_chunks(quiet.as_bytes(), &opts, 2).is_some());
+    assert!(parse_chunked(quiet.as_bytes(), &opts, 2).is_some());
 }

@@ -4,5 +4,6 @@
 
 mod determinism;
 mod fidelity;
+mod fuzz_regressions;
 mod packets;
 mod shading;

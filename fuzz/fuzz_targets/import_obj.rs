@@ -1,0 +1,5 @@
+//! Any bytes: the OBJ importer returns a consistent mesh or an error.
+//! The body is nffkit_formats::fuzzing::import_obj, which the regression test replays.
+#![no_main]
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| nffkit_formats::fuzzing::import_obj(data));
