@@ -9,7 +9,7 @@
 //! separate [`Geometry::surface`] that builds normals only for the final hit.
 
 use crate::aabb::Aabb;
-use crate::math::{max_of, triangle_t_error, RayQuery};
+use crate::math::{max_of, normal_or_facing, triangle_t_error, RayQuery};
 use glam::Vec3A;
 use strum::{EnumCount, IntoStaticStr, VariantArray};
 
@@ -286,12 +286,12 @@ impl Geometry {
         match self.locate(hit.prim) {
             (Kind::Sphere, i) => {
                 let s = self.spheres[i];
-                let n = ((p - s.center) / s.radius).normalize();
+                let n = normal_or_facing(((p - s.center) / s.radius).normalize(), q.ray.d);
                 Surface { p, ng: n, ns: n }
             }
             (Kind::Triangle, i) => {
                 let [a, b, c] = self.triangles[i].v;
-                let ng = (b - a).cross(c - a).normalize();
+                let ng = normal_or_facing((b - a).cross(c - a).normalize(), q.ray.d);
                 // The point from barycentrics is more exact than o + t d.
                 let w = 1.0 - hit.u - hit.v;
                 let p = a * w + b * hit.u + c * hit.v;
@@ -316,7 +316,7 @@ impl Geometry {
                 let rel = p - c.base;
                 let radial = (rel - c.axis * rel.dot(c.axis)).normalize_or_zero();
                 // Gradient of |p_perp| - (r0 + slope * h).
-                let n = (radial - c.axis * c.slope).normalize();
+                let n = normal_or_facing((radial - c.axis * c.slope).normalize(), q.ray.d);
                 Surface { p, ng: n, ns: n }
             }
             (Kind::Plane, i) => {
@@ -643,5 +643,15 @@ mod tests {
         let n = g.surface(&hit, &rq).ng;
         // Normal tilts towards +x because the cone narrows along +x.
         assert!(n.y < -0.9 && n.x > 0.1, "{n}");
+    }
+
+    #[test]
+    fn a_point_computed_at_a_sphere_centre_faces_the_ray() {
+        // Far along a ray (o ~ 2e16) a hit on a unit sphere can round to its
+        // very centre: the normal had no direction and came out NaN.
+        let g = crate::testing::spheres(1, |_| (Vec3A::ZERO, 0.5));
+        let rq = q([0.0, 0.0, 0.0], [0.0, 0.6, 0.8]);
+        let n = g.surface(&Hit { t: 0.0, prim: 0, u: 0.0, v: 0.0 }, &rq).ng;
+        assert_eq!(n, -rq.ray.d);
     }
 }

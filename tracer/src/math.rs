@@ -143,6 +143,20 @@ pub fn refract(d: Vec3A, n: Vec3A, eta: f32) -> Option<Vec3A> {
     (k >= 0.0).then(|| (eta * d + (eta * cos_i - k.sqrt()) * n).normalize())
 }
 
+/// A unit normal `n` as computed, or `-d` (facing the ray along `d`) where
+/// there was none to compute: a zero-length vector normalises to NaN (a
+/// point computed exactly at a sphere's centre, far along a ray whose
+/// single-precision origin is coarse) or, overflowing, to zero. The packet
+/// surface records make the same choice lane by lane.
+#[inline]
+pub fn normal_or_facing(n: Vec3A, d: Vec3A) -> Vec3A {
+    if n.dot(n) > 0.5 {
+        n
+    } else {
+        -d
+    }
+}
+
 /// Move a surface point off the surface along the normal `n` (pointing to the
 /// side the new ray leaves from), by a few units in the last place of its own
 /// coordinates rather than by a fixed epsilon (Wächter and Binder, "A Fast and

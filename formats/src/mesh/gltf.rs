@@ -150,10 +150,8 @@ fn is_gltf_1(bytes: &[u8]) -> bool {
 /// (texture transforms, material extensions).
 fn validated(raw: Gltf, bytes: &[u8], path: &Path, warnings: &mut Vec<String>) -> Result<Gltf, MeshError> {
     use ::gltf::json::validation::Error as V;
-    // gltf-json's validation indexes the accessors with a primitive's
-    // POSITION before checking that it exists (a panic); such files are
-    // refused here first.
-    let missing = missing_attribute_accessors(raw.document.as_json());
+    // Files gltf would panic on are refused here first.
+    let missing = unreadable_accessors(raw.document.as_json());
     if !missing.is_empty() {
         return Err(MeshError::invalid(path, format!("invalid glTF: {}", missing.join("; "))));
     }
@@ -186,29 +184,57 @@ fn validated(raw: Gltf, bytes: &[u8], path: &Path, warnings: &mut Vec<String>) -
     Ok(raw)
 }
 
-/// "meshes[0].primitives[1].attributes.POSITION: accessor 7 does not
-/// exist" for each vertex attribute naming an accessor past the last.
-fn missing_attribute_accessors(json: &::gltf::json::Root) -> Vec<String> {
-    let accessors = json.accessors.len();
-    let mut missing = Vec::new();
+/// What gltf would panic on reading, one message each: an attribute or
+/// index list naming an accessor past the last (gltf-json's validation
+/// indexes it unchecked), or of a component type its reader does not
+/// expect (`unreachable!` in gltf's `read_indices`, `read_tex_coords`,
+/// `read_colors`). The spec allows only these types, so such a file is
+/// invalid anyway.
+fn unreadable_accessors(json: &::gltf::json::Root) -> Vec<String> {
+    use ::gltf::json::accessor::ComponentType as C;
+    use ::gltf::json::mesh::Semantic as S;
+    use ::gltf::json::validation::Checked;
+    const ANY: &[C] = &[C::I8, C::U8, C::I16, C::U16, C::U32, C::F32];
+    let count = json.accessors.len();
+    let mut found = Vec::new();
+    let mut check = |at: String, index: usize, allowed: &[C], what: &str| {
+        let Some(accessor) = json.accessors.get(index) else {
+            found.push(format!("{at}: accessor {index} does not exist (the file has {count})"));
+            return;
+        };
+        if let Checked::Valid(t) = &accessor.component_type {
+            if !allowed.contains(&t.0) {
+                found.push(format!("{at}: accessor {index} has component type {:?}; {what}", t.0));
+            }
+        }
+    };
     for (m, mesh) in json.meshes.iter().enumerate() {
         for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let at = format!("meshes[{m}].primitives[{p}]");
             for (semantic, index) in &primitive.attributes {
-                if index.value() >= accessors {
-                    let name = match semantic {
-                        ::gltf::json::validation::Checked::Valid(s) => s.to_string(),
-                        ::gltf::json::validation::Checked::Invalid => "(unknown)".to_string(),
-                    };
-                    missing.push(format!(
-                        "meshes[{m}].primitives[{p}].attributes.{name}: accessor {} does not exist \
-                         (the file has {accessors})",
-                        index.value()
-                    ));
-                }
+                let (name, allowed, what): (String, &[C], &str) = match semantic {
+                    Checked::Valid(s @ (S::TexCoords(_) | S::Colors(_))) => {
+                        (s.to_string(), &[C::F32, C::U8, C::U16], "it must be F32, U8 or U16")
+                    }
+                    Checked::Valid(s @ (S::Positions | S::Normals | S::Tangents)) => {
+                        (s.to_string(), &[C::F32], "it must be F32")
+                    }
+                    Checked::Valid(s) => (s.to_string(), ANY, ""),
+                    Checked::Invalid => ("(unknown)".to_string(), ANY, ""),
+                };
+                check(format!("{at}.attributes.{name}"), index.value(), allowed, what);
+            }
+            if let Some(index) = &primitive.indices {
+                check(
+                    format!("{at}.indices"),
+                    index.value(),
+                    &[C::U8, C::U16, C::U32],
+                    "indices must be U8, U16 or U32",
+                );
             }
         }
     }
-    missing
+    found
 }
 
 /// Every external buffer file is inside the model's folder (unless allowed)

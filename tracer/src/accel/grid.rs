@@ -241,6 +241,12 @@ impl Grid {
     #[inline]
     pub fn walk(&self, q: &RayQuery, t_max: f32, mut visit: impl FnMut(usize, f32) -> bool) {
         let Some((t0, t1)) = self.bounds.hit(q, q.t_min, t_max * ENTRY_SLACK) else { return };
+        // The bounds are finite, so only a ray with a NaN origin or direction
+        // leaves them at no finite distance; it hits nothing (as in every
+        // other accelerator) instead of stepping in place for ever.
+        if !t1.is_finite() {
+            return;
+        }
         let (o, d) = (q.ray.o, q.ray.d);
         let mut cell = self.world_to_cell(o + d * t0);
         let mut next = [f32::INFINITY; 3];
@@ -409,6 +415,19 @@ mod tests {
                 let dist: i32 = (0..3).map(|j| (w[0][j] as i32 - w[1][j] as i32).abs()).sum();
                 assert_eq!(dist, 1);
             }
+        }
+    }
+
+    #[test]
+    fn a_nan_ray_ends_its_walk() {
+        // A ray computed far from a tiny sphere can carry NaN (before the
+        // surface record's fallback normal); the walk stepped in place for
+        // ever on it.
+        let grid = Grid::build(&scattered_spheres(), 2.0, false);
+        for (o, d) in [(Vec3A::NAN, Vec3A::NAN), (Vec3A::ZERO, Vec3A::NAN), (Vec3A::NAN, Vec3A::X)] {
+            let q = RayQuery::new(Ray { o, d }, 0.0);
+            let cells = grid.dims.iter().map(|&d| d as usize).sum::<usize>();
+            assert!(grid.cells_along(&q, f32::INFINITY).len() <= cells);
         }
     }
 

@@ -12,7 +12,7 @@
 use super::{PacketHits, RayPacket};
 use crate::geometry::{Geometry, Kind};
 use crate::simd::lanes::{for_lanes, set_lane, Lanes, Mask, LANES};
-use crate::simd::vec3::{add3, cross, div3, dot, load3, normalize, scale3, select3, store3, sub3};
+use crate::simd::vec3::{add3, cross, div3, dot, load3, neg3, normalize, scale3, select3, store3, sub3};
 use crate::simd::vector::{group_active, group_bits, F32s, Simd};
 use crate::simd::Isa;
 
@@ -122,6 +122,12 @@ fn barycentric<V: F32s>(a: V, b: V, c: V, [w, u, v]: [V; 3]) -> V {
     a.mul(w).add(b.mul(u)).add(c.mul(v))
 }
 
+/// `math::normal_or_facing` lane by lane.
+#[inline(always)]
+fn or_facing<V: F32s>(s: Simd<V>, n: [V; 3], d: [V; 3]) -> [V; 3] {
+    select3(s.splat(0.5).lt(dot(n, n)), n, neg3(d))
+}
+
 #[inline(always)]
 fn surface_body<V: F32s>(
     s: Simd<V>,
@@ -143,7 +149,7 @@ fn surface_body<V: F32s>(
         // Sphere: p = o + d t, n = ((p - c) / r).normalize().
         // (Products commute bit for bit: t d is d t.)
         let at = add3(o, scale3(t, d));
-        let sphere_n = normalize(div3(sub3(at, a), s.load(&g.radius.0, k)));
+        let sphere_n = or_facing(s, normalize(div3(sub3(at, a), s.load(&g.radius.0, k))), d);
         // Flat triangle: p from the barycentrics, n = (b - a) × (c - a).
         let (b, c) = (load3(s, &g.b, k), load3(s, &g.c, k));
         let w = one.sub(u).sub(v);
@@ -153,7 +159,7 @@ fn surface_body<V: F32s>(
             barycentric(a[1], b[1], c[1], weights),
             barycentric(a[2], b[2], c[2], weights),
         ];
-        let tri_n = normalize(cross(sub3(b, a), sub3(c, a)));
+        let tri_n = or_facing(s, normalize(cross(sub3(b, a), sub3(c, a))), d);
         let kind = s.load(&g.kind.0, k);
         let (is_sphere, is_tri) = (kind.eq(s.splat(SPHERE)), kind.eq(s.splat(TRIANGLE)));
         let pos = select3(is_sphere, at, select3(is_tri, tri_p, load3(s, &out.p, k)));
