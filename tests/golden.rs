@@ -14,7 +14,7 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 fn scenes_dir() -> PathBuf {
-    golden::find_scenes_dir(Path::new(env!("CARGO_MANIFEST_DIR"))).unwrap()
+    golden::find_scenes_dir(Path::new(env!("CARGO_MANIFEST_DIR")), "").unwrap()
 }
 
 fn shown(p: &Option<PathBuf>) -> String {

@@ -1,6 +1,8 @@
 //! Small pieces every binary shares: argument value parsers, options
 //! parsed from a list of words, writing output to a file (atomically) or
-//! standard output, and the exit path.
+//! standard output, and the process around a command ([`run_main`]):
+//! temporary files removed on Ctrl-C or SIGTERM, a closed pipe ending the
+//! program quietly, errors printed once.
 
 use anyhow::{Context, Result};
 use glam::{DVec2, DVec3};
@@ -69,13 +71,88 @@ pub fn write_output(path: Option<&Path>, f: impl FnOnce(&mut dyn Write) -> io::R
     }
 }
 
-/// Print the error chain and map to an exit code.
+/// `eprintln!` that never panics: a message that cannot reach a closed or
+/// full standard error is dropped (there is nowhere left to report it).
+#[macro_export]
+macro_rules! eprintln_safe {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
+/// `eprint!` that never panics (see [`eprintln_safe!`]).
+#[macro_export]
+macro_rules! eprint_safe {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = write!(std::io::stderr(), $($arg)*);
+    }};
+}
+
+/// Print `text` to standard output: an error where the write fails (a full
+/// disk), which [`exit`] turns into a quiet end for a closed pipe.
+pub fn print(text: impl std::fmt::Display) -> Result<()> {
+    let mut out = io::stdout().lock();
+    write!(out, "{text}").and_then(|_| out.flush()).context("writing to standard output")
+}
+
+/// Run a command's body: temporary files are removed if the process is
+/// interrupted (SIGINT, SIGTERM, SIGHUP; it then exits with 130), and the
+/// result becomes the exit code through [`exit`].
+pub fn run_main(tool: &str, body: impl FnOnce() -> Result<ExitCode>) -> ExitCode {
+    remove_partial_files_on_interrupt();
+    match body() {
+        Ok(code) => code,
+        Err(e) => exit(Err(e), tool),
+    }
+}
+
+/// Install, once, the handler that removes the atomic writer's temporary
+/// files when a signal ends the process.
+pub fn remove_partial_files_on_interrupt() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        // Failing to install it (another handler) only loses the clean-up.
+        let _ = ctrlc::set_handler(|| {
+            nffkit_formats::atomic::remove_pending();
+            std::process::exit(130);
+        });
+    });
+}
+
+/// Print the error chain and map to an exit code. A closed pipe is no
+/// error (the reader had what it wanted): exit 0 without a word, as
+/// ripgrep does.
 pub fn exit(result: Result<()>, tool: &str) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if is_broken_pipe(&e) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("{tool}: error: {e:#}");
+            eprintln_safe!("{tool}: error: {}", chain_once(&e));
             ExitCode::FAILURE
         }
     }
+}
+
+/// Whether `e` comes from writing to a closed pipe.
+pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| c.downcast_ref::<io::Error>().is_some_and(|io| io.kind() == io::ErrorKind::BrokenPipe))
+}
+
+/// The error chain joined by `: `, each part once: some errors repeat
+/// their source in their own message ("Unknown filter method 210.: Unknown
+/// filter method 210.").
+pub fn chain_once(e: &anyhow::Error) -> String {
+    let mut text = String::new();
+    for part in e.chain().map(|c| c.to_string()) {
+        if text.contains(&part) {
+            continue;
+        }
+        if !text.is_empty() {
+            text.push_str(": ");
+        }
+        text.push_str(&part);
+    }
+    text
 }

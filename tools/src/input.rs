@@ -101,9 +101,9 @@ pub fn load_scene(path: &Path, opts: &ParseOptions, warnings: Warnings) -> Resul
         Ok(parsed) => {
             if warnings != Warnings::Hide {
                 for d in parsed.diagnostics.iter().filter(|d| d.severity == Severity::Warning) {
-                    out.render(d).inspect(|text| eprint!("{text}"));
+                    out.render(d).inspect(|text| crate::eprint_safe!("{text}"));
                 }
-                eprint!("{}", out.held_back());
+                crate::eprint_safe!("{}", out.held_back());
             }
             Ok(parsed)
         }
@@ -111,9 +111,9 @@ pub fn load_scene(path: &Path, opts: &ParseOptions, warnings: Warnings) -> Resul
             for d in
                 e.diagnostics.iter().filter(|d| warnings != Warnings::Hide || d.severity == Severity::Error)
             {
-                out.render(d).inspect(|text| eprint!("{text}"));
+                out.render(d).inspect(|text| crate::eprint_safe!("{text}"));
             }
-            eprint!("{}", out.held_back());
+            crate::eprint_safe!("{}", out.held_back());
             bail!("{name}: {}", escape(&e.to_string()))
         }
     }

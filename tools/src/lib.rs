@@ -19,5 +19,6 @@ pub mod demo;
 pub mod gen;
 pub mod input;
 pub mod mesh2nff;
+pub mod outputs;
 pub mod qa;
 pub mod render;

@@ -216,9 +216,11 @@ fn unreadable_accessors(json: &::gltf::json::Root) -> Vec<String> {
                     Checked::Valid(s @ (S::TexCoords(_) | S::Colors(_))) => {
                         (s.to_string(), &[C::F32, C::U8, C::U16], "it must be F32, U8 or U16")
                     }
-                    Checked::Valid(s @ (S::Positions | S::Normals | S::Tangents)) => {
-                        (s.to_string(), &[C::F32], "it must be F32")
-                    }
+                    Checked::Valid(s @ (S::Positions | S::Normals | S::Tangents)) => (
+                        s.to_string(),
+                        &[C::F32],
+                        "it must be F32 (other types need KHR_mesh_quantization, not supported)",
+                    ),
                     Checked::Valid(s) => (s.to_string(), ANY, ""),
                     Checked::Invalid => ("(unknown)".to_string(), ANY, ""),
                 };

@@ -71,6 +71,7 @@ fn main_inner(a: &Args) -> Result<()> {
     if a.spp.is_empty() || a.spp.iter().any(|&s| s == 0 || s > 65536) {
         anyhow::bail!("--spp takes counts from 1 to 65536");
     }
+    nffkit_tools::outputs::Outputs::new().folder("--out", &a.out)?;
     let cfg = DemoConfig {
         size: a.size,
         spps: a.spp.clone(),
@@ -82,7 +83,7 @@ fn main_inner(a: &Args) -> Result<()> {
     let spd_dir = if a.figures {
         let cwd = std::env::current_dir().context("reading the current directory")?;
         Some(
-            find_scenes_dir(&cwd)
+            find_scenes_dir(&cwd, "leave out --figures")
                 .context("--figures runs `table1 --quick` on the project's scenes/spd")?
                 .join("spd"),
         )
@@ -121,7 +122,7 @@ fn main_inner(a: &Args) -> Result<()> {
                 let (size, cap) = nffkit_tools::bench::table1::QUICK;
                 let table1 = nffkit_tools::bench::table1::table(dir, size, cap, 1, &|what| {
                     if !quiet {
-                        eprintln!("table1: timing {what}");
+                        nffkit_tools::eprintln_safe!("table1: timing {what}");
                     }
                 })?;
                 Some(FiguresSection { images, table1 })
@@ -137,13 +138,14 @@ fn main_inner(a: &Args) -> Result<()> {
     image_io::save(&contact_sheet(&result, &cfg), &a.out.join("contact-sheet.png"), false)?;
     let t = table(&result, &cfg);
     atomic::write_bytes(&a.out.join("errors.md"), t.as_bytes())?;
-    print!("{t}");
+    cli_util::print(&t)?;
     if !a.quiet {
-        eprintln!("wrote {} in {:.1} s", index.display(), t0.elapsed().as_secs_f64());
+        nffkit_tools::eprintln_safe!("wrote {} in {:.1} s", index.display(), t0.elapsed().as_secs_f64());
     }
     Ok(())
 }
 
 fn main() -> ExitCode {
-    cli_util::exit(main_inner(&Args::parse()), "aademo")
+    let args = Args::parse();
+    cli_util::run_main("aademo", || main_inner(&args).map(|_| ExitCode::SUCCESS))
 }

@@ -51,7 +51,10 @@ enum Command {
 fn run(a: &Args) -> Result<bool> {
     let scenes = match &a.scenes {
         Some(dir) => dir.clone(),
-        None => find_scenes_dir(&std::env::current_dir().context("reading the current directory")?)?,
+        None => find_scenes_dir(
+            &std::env::current_dir().context("reading the current directory")?,
+            "pass --scenes DIR",
+        )?,
     };
     let catalogue = load_catalogue(&scenes)?;
     let jobs =
@@ -89,7 +92,7 @@ fn run(a: &Args) -> Result<bool> {
                 };
                 std::fs::create_dir_all(path.parent().unwrap())?;
                 image_io::save(&img, &path, false)?;
-                println!("{:<28} {status}", case.name);
+                cli_util::print(format_args!("{:<28} {status}\n", case.name))?;
             }
             Ok(true)
         }
@@ -110,11 +113,15 @@ fn run(a: &Args) -> Result<bool> {
             let mut all = Vec::new();
             for c in checked {
                 let c = c?;
-                println!("{:<28} {}", c.case.name, c.failure.as_deref().unwrap_or("pass"));
+                cli_util::print(format_args!(
+                    "{:<28} {}\n",
+                    c.case.name,
+                    c.failure.as_deref().unwrap_or("pass")
+                ))?;
                 all.push(c);
             }
             let ok = all.iter().all(|c| c.failure.is_none());
-            println!("report: {}", html_report(&all, report)?.display());
+            cli_util::print(format_args!("report: {}\n", html_report(&all, report)?.display()))?;
             Ok(ok)
         }
     }
@@ -136,7 +143,7 @@ fn in_parallel<T: Send>(
                 let r = f(case);
                 let n = done.fetch_add(1, Ordering::Relaxed) + 1;
                 let s = r.as_ref().map_or("error", &status);
-                eprintln!("[{n:>3}/{}] {:<28} {s}", cases.len(), case.name);
+                nffkit_tools::eprintln_safe!("[{n:>3}/{}] {:<28} {s}", cases.len(), case.name);
                 r
             })
             .collect()
@@ -144,9 +151,8 @@ fn in_parallel<T: Send>(
 }
 
 fn main() -> ExitCode {
-    match run(&Args::parse()) {
-        Ok(true) => ExitCode::SUCCESS,
-        Ok(false) => ExitCode::FAILURE,
-        Err(e) => cli_util::exit(Err(e), "golden"),
-    }
+    let args = Args::parse();
+    cli_util::run_main("golden", || {
+        run(&args).map(|ok| if ok { ExitCode::SUCCESS } else { ExitCode::FAILURE })
+    })
 }

@@ -5,6 +5,7 @@ use clap::{Parser, ValueEnum};
 use nffkit_formats::mesh::ImportOptions;
 use nffkit_tools::cli_util;
 use nffkit_tools::mesh2nff::{write, Lights, Options, Up};
+use nffkit_tools::outputs::Outputs;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -100,13 +101,7 @@ fn run(a: &Args) -> Result<()> {
     }
     let name = if a.model.as_os_str() == "-" { "<stdin>".into() } else { a.model.display().to_string() };
     if let Some(out) = &a.output {
-        let existing = std::fs::canonicalize(out).ok();
-        if a.model.as_os_str() != "-"
-            && existing.is_some()
-            && existing == std::fs::canonicalize(&a.model).ok()
-        {
-            anyhow::bail!("-o {} is the input model; refusing to overwrite it", out.display());
-        }
+        Outputs::new().inputs([a.model.as_path()]).file("-o", out)?;
     }
     let import = ImportOptions { textures: !a.no_textures, allow_outside_paths: a.allow_outside_paths };
     let mesh = if a.model.as_os_str() == "-" {
@@ -124,7 +119,7 @@ fn run(a: &Args) -> Result<()> {
     .context("cannot convert")?;
     if !a.quiet {
         for w in &mesh.warnings {
-            eprintln!("mesh2nff: warning: {name}: {w}");
+            nffkit_tools::eprintln_safe!("mesh2nff: warning: {name}: {w}");
         }
     }
     let opts = Options {
@@ -152,16 +147,21 @@ fn run(a: &Args) -> Result<()> {
     })?;
     if let (false, Some(s)) = (a.quiet, summary) {
         for note in &s.notes {
-            eprintln!("mesh2nff: {note}");
+            nffkit_tools::eprintln_safe!("mesh2nff: {note}");
         }
-        eprintln!(
+        nffkit_tools::eprintln_safe!(
             "mesh2nff: {} polygons, {} patches, {} materials ({} faces triangulated, {} degenerate dropped)",
-            s.polygons, s.patches, s.materials, s.triangulated, s.degenerate
+            s.polygons,
+            s.patches,
+            s.materials,
+            s.triangulated,
+            s.degenerate
         );
     }
     Ok(())
 }
 
 fn main() -> ExitCode {
-    cli_util::exit(run(&Args::parse()), "mesh2nff")
+    let args = Args::parse();
+    cli_util::run_main("mesh2nff", || run(&args).map(|_| ExitCode::SUCCESS))
 }

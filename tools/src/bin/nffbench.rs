@@ -1,7 +1,7 @@
 //! `nffbench`: the project's benchmark. See `nffbench --help` and the
 //! module doc of `nffkit_tools::bench`.
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use clap::Parser;
 use nffkit_formats::nff::{self, ParseOptions};
 use nffkit_tools::bench::{
@@ -43,6 +43,10 @@ struct Args {
     /// Sphereflake level of the big-scene test (compared with level 2).
     #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u32).range(2..=7))]
     flake_level: u32,
+    /// The SPD scenes (balls_s4.nff, mount_s7.nff). Default: `scenes/spd`
+    /// of the current directory or the nearest folder above it.
+    #[arg(long, value_name = "DIR")]
+    spd_dir: Option<PathBuf>,
     /// Internal: measure one sphereflake file in this process.
     #[arg(long, hide = true, value_name = "FILE")]
     flake_child: Option<PathBuf>,
@@ -69,14 +73,14 @@ fn measure(name: &str, spd: &Path, a: &Args, threads: usize) -> Result<Column> {
     let path = spd.join(format!("{name}.nff"));
     let src = std::fs::read(&path).with_context(|| format!("reading {}", path.display()))?;
     let scene = nff::parse(&src, &ParseOptions::default()).map_err(|e| anyhow::anyhow!("{name}: {e}"))?.scene;
-    eprintln!("{name}: rays on one thread");
+    nffkit_tools::eprintln_safe!("{name}: rays on one thread");
     let opts = PrepareOptions { width: Some(a.size), height: Some(a.size), ..Default::default() };
     let prepared = prepare(&scene, &opts)?;
     let one = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
     let rates = one.install(|| ray_rates(&prepared, a.runs));
     let size = a.size.to_string();
     let base = ["--width", &size, "--height", &size, "--depth", "6"];
-    eprintln!("{name}: Whitted renders on {threads} threads");
+    nffkit_tools::eprintln_safe!("{name}: Whitted renders on {threads} threads");
     let spp1 = render_timing(&scene, &base, a.runs)?;
     let spp16 = render_timing(&scene, &[&base[..], &["--spp", "16"]].concat(), a.runs)?;
     let (mut pov1, mut pov16, mut pov16_pruned, mut embree) = (None, None, None, None);
@@ -84,7 +88,11 @@ fn measure(name: &str, spd: &Path, a: &Args, threads: usize) -> Result<Column> {
         let render = std::env::current_exe()?.with_file_name("render");
         let render = render.to_str().context("the render binary's path is not UTF-8")?;
         let pov = |aa: bool, extra: &[&str]| -> Result<(f64, f64)> {
-            eprintln!("{name}: POV-Ray{} {}", if aa { " --aa" } else { "" }, extra.join(" "));
+            nffkit_tools::eprintln_safe!(
+                "{name}: POV-Ray{} {}",
+                if aa { " --aa" } else { "" },
+                extra.join(" ")
+            );
             let mut args = vec!["--scene", name, "--size", &size, "--runs", "3"];
             if aa {
                 args.push("--aa");
@@ -103,7 +111,7 @@ fn measure(name: &str, spd: &Path, a: &Args, threads: usize) -> Result<Column> {
         pov16 = Some(pov(true, &[])?);
         pov16_pruned = Some(pov(true, &["--min-weight", "0.0039"])?);
         let em = |extra: &[&str]| -> Result<Option<f64>> {
-            eprintln!("{name}: Embree {}", extra.join(" "));
+            nffkit_tools::eprintln_safe!("{name}: Embree {}", extra.join(" "));
             let args = [&[name, "--width", &size, "--height", &size, "--threads", "1"][..], extra].concat();
             Ok(embree_mrays(&capture(&shared.join("bench/embree-rays"), &args)?))
         };
@@ -127,7 +135,7 @@ fn measure(name: &str, spd: &Path, a: &Args, threads: usize) -> Result<Column> {
 /// step's best time, the best whole-process time, and the highest peak.
 fn flake(level: u32, dir: &Path, runs: u32) -> Result<(FlakeProcess, f64)> {
     let file = dir.join(format!("flake{level}.nff"));
-    eprintln!("sphereflake level {level}: writing and loading in {runs} fresh processes");
+    nffkit_tools::eprintln_safe!("sphereflake level {level}: writing and loading in {runs} fresh processes");
     write_flake(level, &file)?;
     let exe = std::env::current_exe()?;
     let mut best: Option<(FlakeProcess, f64)> = None;
@@ -154,8 +162,7 @@ fn flake(level: u32, dir: &Path, runs: u32) -> Result<(FlakeProcess, f64)> {
 }
 
 fn report(a: &Args) -> Result<String> {
-    let cwd = std::env::current_dir()?;
-    let spd = find_scenes_dir(&cwd)?.join("spd");
+    let spd = spd_dir(a)?;
     let threads = rayon::current_num_threads();
     let cols = SCENES.iter().map(|s| measure(s, &spd, a, threads)).collect::<Result<Vec<_>>>()?;
     let mut t = format!("## Rays and renders ({0}x{0}, depth 6; {threads} threads for renders)\n\n", a.size);
@@ -245,7 +252,7 @@ fn report(a: &Args) -> Result<String> {
 /// times: short processes need many runs for the best to be the
 /// machine's, not its noise.
 fn check_section(t: &mut String, spd: &Path, runs: u32) -> Result<()> {
-    eprintln!("render --check mount_s7: {runs} fresh processes");
+    nffkit_tools::eprintln_safe!("render --check mount_s7: {runs} fresh processes");
     let render = std::env::current_exe()?.with_file_name("render");
     let file = spd.join("mount_s7.nff");
     let file = file.to_str().context("the scene's path is not UTF-8")?;
@@ -263,15 +270,51 @@ fn check_section(t: &mut String, spd: &Path, runs: u32) -> Result<()> {
     Ok(())
 }
 
-fn run(a: &Args) -> Result<()> {
-    if let Some(file) = &a.flake_child {
-        println!("{}", bench::flake_process(file)?.to_line());
-        return Ok(());
+/// The folder of the SPD scenes, checked.
+fn spd_dir(a: &Args) -> Result<PathBuf> {
+    let dir = match &a.spd_dir {
+        Some(d) => d.clone(),
+        None => find_scenes_dir(&std::env::current_dir()?, "pass --spd-dir DIR")?.join("spd"),
+    };
+    for scene in SCENES {
+        let file = dir.join(format!("{scene}.nff"));
+        if !file.is_file() {
+            bail!(
+                "{} not found; --spd-dir names the folder holding {}",
+                file.display(),
+                SCENES.join(".nff, ")
+            );
+        }
     }
-    print!("{}", report(a)?);
+    Ok(dir)
+}
+
+/// The comparison scripts of `--shared DIR`, there before anything is timed.
+fn check_shared(shared: &Path) -> Result<()> {
+    for script in ["bench/vs-povray", "bench/embree-rays"] {
+        let path = shared.join(script);
+        if !path.is_file() {
+            bail!(
+                "--shared {}: {} not found (the folder must hold bench/vs-povray and bench/embree-rays)",
+                shared.display(),
+                path.display()
+            );
+        }
+    }
     Ok(())
 }
 
+fn run(a: &Args) -> Result<()> {
+    if let Some(file) = &a.flake_child {
+        return cli_util::print(format_args!("{}\n", bench::flake_process(file)?.to_line()));
+    }
+    if let Some(shared) = &a.shared {
+        check_shared(shared)?;
+    }
+    cli_util::print(report(a)?)
+}
+
 fn main() -> ExitCode {
-    cli_util::exit(run(&Args::parse()), "nffbench")
+    let args = Args::parse();
+    cli_util::run_main("nffbench", || run(&args).map(|_| ExitCode::SUCCESS))
 }

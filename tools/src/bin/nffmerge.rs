@@ -4,6 +4,7 @@ use anyhow::{Context, Result};
 use clap::Parser;
 use nffkit_formats::image_io::{self, ImageKind};
 use nffkit_tools::cli_util;
+use nffkit_tools::outputs::Outputs;
 use nffkit_tools::render::{part, report};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -39,20 +40,22 @@ struct Args {
 
 fn run(a: &Args) -> Result<()> {
     let kind = ImageKind::from_path(&a.output)?;
+    Outputs::new().inputs(a.parts.iter().map(|p| p.as_path())).file("-o", &a.output)?;
     let parts = a.parts.iter().map(|p| part::read_part(p)).collect::<Result<Vec<_>>>()?;
     let merged = part::merge(&parts)?;
     let bytes = image_io::encode(&merged.image, kind, a.srgb)?;
     nffkit_formats::atomic::write_bytes(&a.output, &bytes)?;
     if a.stats {
-        print!("{}", report::counters(&merged.counters));
+        cli_util::print(report::counters(&merged.counters))?;
     }
     if !a.quiet {
         let (w, h) = (merged.image.width, merged.image.height);
-        eprintln!("merged {} parts into {} ({w}x{h})", parts.len(), a.output.display());
+        nffkit_tools::eprintln_safe!("merged {} parts into {} ({w}x{h})", parts.len(), a.output.display());
     }
     Ok(())
 }
 
 fn main() -> ExitCode {
-    cli_util::exit(run(&Args::parse()).context("nothing written"), "nffmerge")
+    let args = Args::parse();
+    cli_util::run_main("nffmerge", || run(&args).context("nothing written").map(|_| ExitCode::SUCCESS))
 }

@@ -4,6 +4,7 @@ use anyhow::{bail, Context, Result};
 use clap::Parser;
 use nffkit_formats::nff::{self, ParseOptions};
 use nffkit_tools::gen::planegen::Board;
+use nffkit_tools::outputs::Outputs;
 use nffkit_tools::{cli_util, input};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -33,6 +34,16 @@ struct Args {
 fn run(a: &Args) -> Result<()> {
     let board = &a.board;
     board.validate()?;
+    let out = match (&a.output, a.in_place, &a.append_to) {
+        (Some(_), true, _) => bail!("--in-place and -o both name an output; give one"),
+        (_, true, Some(p)) => Some(p.clone()),
+        (o, _, _) => o.clone(),
+    };
+    if let Some(o) = &out {
+        // --in-place means overwriting the scene read; nothing else may.
+        let reads = a.append_to.as_deref().filter(|_| !a.in_place);
+        Outputs::new().inputs(reads).file(if a.in_place { "--in-place" } else { "-o" }, o)?;
+    }
     let scene = match &a.append_to {
         Some(path) => {
             let mut scene = input::load_scene(path, &ParseOptions::default(), input::Warnings::Summarise)
@@ -43,14 +54,10 @@ fn run(a: &Args) -> Result<()> {
         }
         None => board.scene(),
     };
-    let out = match (&a.output, a.in_place, &a.append_to) {
-        (Some(_), true, _) => bail!("--in-place and -o both name an output; give one"),
-        (_, true, Some(p)) => Some(p.clone()),
-        (o, _, _) => o.clone(),
-    };
     cli_util::write_output(out.as_deref(), |w| nff::write(&scene, w).map(|_| ()))
 }
 
 fn main() -> ExitCode {
-    cli_util::exit(run(&Args::parse()), "planegen")
+    let args = Args::parse();
+    cli_util::run_main("planegen", || run(&args).map(|_| ExitCode::SUCCESS))
 }

@@ -49,15 +49,16 @@ fn run(a: &Args) -> Result<()> {
         (rays, hits) = eye_rays(&prepared);
         best = best.min(t0.elapsed().as_secs_f64());
     }
-    println!(
-        "{}: {rays} eye rays ({hits} hit) in {:.4} s on one thread: {:.2} Mrays/s",
+    cli_util::print(format_args!(
+        "{}: {rays} eye rays ({hits} hit) in {:.4} s on one thread: {:.2} Mrays/s\n",
         input::display_name(&a.scene),
         best,
         rays as f64 / best / 1e6
-    );
+    ))?;
     Ok(())
 }
 
 fn main() -> ExitCode {
-    cli_util::exit(run(&Args::parse()), "raybench")
+    let args = Args::parse();
+    cli_util::run_main("raybench", || run(&args).map(|_| ExitCode::SUCCESS))
 }

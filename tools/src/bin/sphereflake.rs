@@ -4,6 +4,7 @@ use anyhow::Result;
 use clap::Parser;
 use nffkit_tools::cli_util;
 use nffkit_tools::gen::sphereflake::Sphereflake;
+use nffkit_tools::outputs::Outputs;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -25,9 +26,13 @@ struct Args {
 
 fn run(a: &Args) -> Result<()> {
     a.flake.validate()?;
+    if let Some(o) = &a.output {
+        Outputs::new().file("-o", o)?;
+    }
     cli_util::write_output(a.output.as_deref(), |w| a.flake.write(w).map(|_| ()))
 }
 
 fn main() -> ExitCode {
-    cli_util::exit(run(&Args::parse()), "sphereflake")
+    let args = Args::parse();
+    cli_util::run_main("sphereflake", || run(&args).map(|_| ExitCode::SUCCESS))
 }

@@ -40,18 +40,21 @@ struct Args {
 fn run(a: &Args) -> Result<()> {
     let spd_dir = match &a.spd_dir {
         Some(dir) => dir.clone(),
-        None => {
-            find_scenes_dir(&std::env::current_dir().context("reading the current directory")?)?.join("spd")
-        }
+        None => find_scenes_dir(
+            &std::env::current_dir().context("reading the current directory")?,
+            "pass --spd-dir DIR",
+        )?
+        .join("spd"),
     };
     let (size, cap) = if a.quick { nffkit_tools::bench::table1::QUICK } else { (a.size, a.cap) };
     let t = nffkit_tools::bench::table1::table(&spd_dir, size, cap, a.jobs as usize, &|what| {
-        eprintln!("timing {what}")
+        nffkit_tools::eprintln_safe!("timing {what}")
     })?;
-    print!("{t}");
+    cli_util::print(&t)?;
     Ok(())
 }
 
 fn main() -> ExitCode {
-    cli_util::exit(run(&Args::parse()), "table1")
+    let args = Args::parse();
+    cli_util::run_main("table1", || run(&args).map(|_| ExitCode::SUCCESS))
 }

@@ -88,15 +88,16 @@ impl Case {
 
 /// The `scenes/` folder holding `catalogue.toml`, looked for in `start`
 /// and each folder above it (so `golden` works from anywhere inside a
-/// checkout, and no path of the build machine is compiled in).
-pub fn find_scenes_dir(start: &Path) -> Result<PathBuf> {
+/// checkout, and no path of the build machine is compiled in). `hint`
+/// says how the command takes the folder instead ("pass --scenes DIR").
+pub fn find_scenes_dir(start: &Path, hint: &str) -> Result<PathBuf> {
     start
         .ancestors()
         .map(|a| if a.file_name().is_some_and(|n| n == "scenes") { a.to_path_buf() } else { a.join("scenes") })
         .find(|s| s.join("catalogue.toml").is_file())
         .with_context(|| {
             format!(
-                "no scenes/catalogue.toml in {} or any folder above it; run inside an nffkit checkout or pass --scenes DIR",
+                "no scenes/catalogue.toml in {} or any folder above it; run inside an nffkit checkout or {hint}",
                 start.display()
             )
         })

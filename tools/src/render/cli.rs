@@ -6,8 +6,9 @@
 use super::scene_warnings::scene_warnings;
 use super::{check, part, report, spd_published};
 use crate::gen::default_scene;
-use crate::input;
+use crate::outputs::Outputs;
 use crate::render::args::{Command, RenderArgs, RenderConfig};
+use crate::{cli_util, eprint_safe, eprintln_safe, input};
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use nffkit_formats::image_io::{self, ImageKind};
@@ -23,7 +24,7 @@ use std::time::Instant;
 /// Run the command; the exit code reflects errors.
 pub fn run(args: &RenderArgs) -> Result<ExitCode> {
     match args.command()? {
-        Command::Check { files, parse, warnings } => Ok(check_files(&files, &parse, warnings)),
+        Command::Check { files, parse, warnings } => check_files(&files, &parse, warnings),
         Command::Render(config) => {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(config.threads)
@@ -35,15 +36,15 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode> {
     }
 }
 
-fn check_files(files: &[PathBuf], opts: &ParseOptions, warnings: input::Warnings) -> ExitCode {
+fn check_files(files: &[PathBuf], opts: &ParseOptions, warnings: input::Warnings) -> Result<ExitCode> {
     let mut failed = 0;
     for (k, path) in files.iter().enumerate() {
         let name = input::display_name(path);
         match input::read_source(path) {
             Ok(src) => {
                 let report = check::check_source(&name, &src, opts, warnings);
-                eprint!("{}", report.diagnostics);
-                println!("{}", report.summary);
+                eprint_safe!("{}", report.diagnostics);
+                cli_util::print(format_args!("{}\n", report.summary))?;
                 failed += (report.errors > 0) as usize;
                 if k + 1 == files.len() {
                     // The process ends next, and the system takes the
@@ -53,23 +54,24 @@ fn check_files(files: &[PathBuf], opts: &ParseOptions, warnings: input::Warnings
                 }
             }
             Err(e) => {
-                eprintln!("error: {e:#}");
+                eprintln_safe!("error: {}", cli_util::chain_once(&e));
                 failed += 1;
             }
         }
     }
-    if failed == 0 {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::FAILURE
-    }
+    Ok(if failed == 0 { ExitCode::SUCCESS } else { ExitCode::FAILURE })
 }
 
 fn render_command(cfg: &RenderConfig) -> Result<()> {
     let t_start = Instant::now();
+    let mut outputs = Outputs::new().inputs(cfg.input.as_deref()).file("-o", &cfg.output)?;
+    if let Some(cost) = &cfg.aov_cost {
+        outputs = outputs.file("--aov-cost", cost)?;
+    }
+    drop(outputs);
     if !cfg.quiet {
         for note in &cfg.notes {
-            eprintln!("note: {note}");
+            eprintln_safe!("note: {note}");
         }
     }
     let (scene, name) = match &cfg.input {
@@ -80,11 +82,11 @@ fn render_command(cfg: &RenderConfig) -> Result<()> {
     let prepared = prepare(&scene, &cfg.prepare).with_context(|| name.clone())?;
     if !cfg.quiet {
         for w in scene_warnings(&scene, Some(&prepared), prepared.ambient > 0.0) {
-            eprint!("{}", w.render(&name));
+            eprint_safe!("{}", w.render(&name));
         }
     }
     if let Some(w) = prepared.accel_info().warning.filter(|_| !cfg.quiet) {
-        eprintln!("warning: {name}: {w}");
+        eprintln_safe!("warning: {name}: {w}");
     }
     let full = prepared.camera.resolution();
     let mut settings = cfg.settings.clone();
@@ -120,14 +122,17 @@ fn render_command(cfg: &RenderConfig) -> Result<()> {
         let (img, max) = cost_heatmap(cost, w, h);
         image_io::save(&img, path, false)?;
         if !cfg.quiet {
-            eprintln!("cost image: {} (black = 0, white = {max} tests and visits per pixel)", path.display());
+            eprintln_safe!(
+                "cost image: {} (black = 0, white = {max} tests and visits per pixel)",
+                path.display()
+            );
         }
     }
     if cfg.stats {
         let times = report::Times { parse: t_parse, total: t_start.elapsed().as_secs_f64() };
-        print!("{}", report::statistics(&name, &scene, &prepared, &settings, &out, times));
+        cli_util::print(report::statistics(&name, &scene, &prepared, &settings, &out, times))?;
         if let Some(published) = spd_published::recognise(&scene).filter(|_| settings.shade.spd) {
-            print!("{}", spd_published::comparison(published, &out.counters, full.0, full.1));
+            cli_util::print(spd_published::comparison(published, &out.counters, full.0, full.1))?;
         }
     }
     if !cfg.quiet {
@@ -139,7 +144,7 @@ fn render_command(cfg: &RenderConfig) -> Result<()> {
         } else {
             format!("{w}x{h}")
         };
-        eprintln!("wrote {} ({what}) in {:.3} s", cfg.output.display(), t_start.elapsed().as_secs_f64());
+        eprintln_safe!("wrote {} ({what}) in {:.3} s", cfg.output.display(), t_start.elapsed().as_secs_f64());
     }
     Ok(())
 }
@@ -161,11 +166,5 @@ fn progress_bar(quiet: bool, w: u32, h: u32) -> Option<ProgressBar> {
 
 /// Entry point shared by the binary.
 pub fn main_with(args: RenderArgs) -> ExitCode {
-    match run(&args) {
-        Ok(code) => code,
-        Err(e) => {
-            eprintln!("render: error: {e:#}");
-            ExitCode::FAILURE
-        }
-    }
+    cli_util::run_main("render", || run(&args))
 }

@@ -8,6 +8,7 @@ mod bench;
 mod cli;
 mod common;
 mod farm;
+mod files;
 mod generators;
 mod mesh2nff;
 mod mesh_looks;

@@ -410,7 +410,7 @@ fn output_naming_the_input_is_refused_and_stdin_is_read() {
     write_file(dir.path(), "t.obj", text);
     let o = mesh2nff(&["t.obj", "-o", "t.obj"], dir.path(), None);
     assert!(!o.status.success());
-    assert!(String::from_utf8_lossy(&o.stderr).contains("is the input model"));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("would overwrite the input"));
     assert_eq!(std::fs::read_to_string(dir.path().join("t.obj")).unwrap(), text, "input untouched");
     let o = mesh2nff(&["-", "--no-view"], dir.path(), Some(text));
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
