@@ -106,7 +106,46 @@ impl RenderScene {
     pub fn accel_info(&self) -> AccelInfo {
         self.accel.info()
     }
+
+    /// The scene's dynamic range: its span (the largest coordinate of any
+    /// bounded primitive, the eye or a light) over the size of its smallest
+    /// primitive (the longest side of its box). Single precision resolves
+    /// about one part in 2^24 of a coordinate, so past
+    /// [`PRECISION_RANGE`] the smallest primitives are hit or missed by
+    /// rounding, which accelerators, culling rays at different boxes, may
+    /// settle differently.
+    pub fn dynamic_range(&self) -> f32 {
+        let g = &self.geometry;
+        let mut span = self.camera.eye.abs().max_element();
+        for l in &self.lights {
+            span = span.max(l.position.abs().max_element());
+        }
+        let mut smallest = f32::INFINITY;
+        for id in 0..g.info.len() as u32 {
+            let b = g.bounds(id);
+            if !(b.min.is_finite() && b.max.is_finite()) {
+                continue; // an infinite plane
+            }
+            span = span.max(b.min.abs().max_element()).max(b.max.abs().max_element());
+            let size = (b.max - b.min).max_element();
+            // A triangle with all three corners at one point is never hit.
+            if size > 0.0 || g.locate(id).0 != Kind::Triangle {
+                smallest = smallest.min(size);
+            }
+        }
+        if smallest == f32::INFINITY {
+            1.0
+        } else {
+            span / smallest
+        }
+    }
 }
+
+/// The dynamic range ([`RenderScene::dynamic_range`]) past which small
+/// primitives are at the mercy of rounding: 2^20, a sixteenth of single
+/// precision's 2^24 (sphereflake level 7 and the SPD tessellations are
+/// below 2^13).
+pub const PRECISION_RANGE: f32 = 1_048_576.0;
 
 fn v3(v: DVec3) -> Vec3A {
     Vec3A::new(v.x as f32, v.y as f32, v.z as f32)

@@ -10,7 +10,7 @@
 use nffkit_formats::nff::escape;
 use nffkit_formats::polygon::newell_normal;
 use nffkit_formats::{Scene, Shape};
-use nffkit_tracer::prepare::RenderScene;
+use nffkit_tracer::prepare::{RenderScene, PRECISION_RANGE};
 use nffkit_tracer::probe::probe_view;
 
 use glam::DVec3;
@@ -39,7 +39,29 @@ pub fn scene_warnings(scene: &Scene, prepared: Option<&RenderScene>, ambient: bo
     let mut out: Vec<SceneWarning> = unlit(scene, ambient).into_iter().collect();
     out.extend(lights_in_surface_planes(scene));
     out.extend(prepared.and_then(back_faces_in_view));
+    out.extend(prepared.and_then(beyond_precision));
     out
+}
+
+/// The warning when the scene's dynamic range passes what single precision
+/// resolves: its smallest objects are hit or missed by rounding.
+pub fn beyond_precision(prepared: &RenderScene) -> Option<SceneWarning> {
+    let range = prepared.dynamic_range();
+    let what = if range.is_finite() {
+        format!(
+            "spans {range:.1e} times the size of its smallest object, more than single precision \
+             resolves ({PRECISION_RANGE:.0e})"
+        )
+    } else {
+        "has objects too small for single precision to give them any size".to_string()
+    };
+    (range > PRECISION_RANGE).then(|| SceneWarning {
+        message: format!(
+            "the scene {what}: small objects far from the origin or the eye may be hit or missed \
+             by rounding, and accelerators may disagree on them"
+        ),
+        line: None,
+    })
 }
 
 /// The warning to print when `scene` has no lights and nothing else lights

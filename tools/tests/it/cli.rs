@@ -469,3 +469,19 @@ fn a_view_of_back_faces_lit_edge_on_is_warned_not_silently_black() {
     assert!(o.status.success() && err.contains(in_plane) && !err.contains(backs), "{err}");
     assert!(png(&out).pixels().filter(|p| p.0[0] > 50).count() > 32 * 32 / 2);
 }
+
+#[test]
+fn a_scene_beyond_single_precision_is_warned_about() {
+    let dir = tempfile::tempdir().unwrap();
+    let view = "v\nfrom 2 1 1.5\nat 0 0 0\nup 0 0 1\nangle 45\nhither 0.01\nresolution 16 16\nl -3 1 5\n";
+    let warning = "spans 2.5e9 times the size of its smallest object";
+    for (name, extra, warned) in
+        [("fine.nff", "s 0 0 0 0.5\n", false), ("wide.nff", "s 0.4 0.3 0.4 2.8e8\n", true)]
+    {
+        let f = dir.path().join(name);
+        std::fs::write(&f, format!("{view}s 0.3 0.4 0.4 0.0555\n{extra}")).unwrap();
+        let o = run(RENDER, &["--check", f.to_str().unwrap()], None);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(err.contains(warning), warned, "{name}: {err}");
+    }
+}
