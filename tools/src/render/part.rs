@@ -28,14 +28,12 @@ use std::path::{Path, PathBuf};
 const DIGEST: &str = "nffkit.sceneDigest";
 const SETTINGS: &str = "nffkit.settings";
 const COUNTERS: &str = "nffkit.counters";
+const PART_DIGEST: &str = "nffkit.partDigest";
 
 /// SHA-256 of the scene as the NFF writer prints it, in hex.
 pub fn scene_digest(scene: &Scene) -> String {
     let text = nff::write(scene, Vec::new()).unwrap_or_default();
-    Sha256::digest(&text).iter().fold(String::new(), |mut s, b| {
-        let _ = write!(s, "{b:02x}");
-        s
-    })
+    hex(&Sha256::digest(&text))
 }
 
 /// Every setting that changes pixels, by name (the `render` flag that sets
@@ -192,29 +190,89 @@ pub fn encode_part(
     attrs.layer_position = Vec2(window.x0 as i32, window.y0 as i32);
     attrs.other.insert(text(DIGEST)?, AttributeValue::Text(text(digest)?));
     attrs.other.insert(text(SETTINGS)?, AttributeValue::Text(text(settings)?));
-    attrs.other.insert(text(COUNTERS)?, AttributeValue::Text(text(&counters_line(counters))?));
+    let counters = counters_line(counters);
+    attrs
+        .other
+        .insert(text(PART_DIGEST)?, AttributeValue::Text(text(&part_digest(&image.pixels, &counters))?));
+    attrs.other.insert(text(COUNTERS)?, AttributeValue::Text(text(&counters)?));
     let display = IntegerBounds::new(Vec2(0, 0), Vec2(full.0 as usize, full.1 as usize));
     image_io::encode_exr(image, attrs, display).context("encoding the EXR part")
 }
 
-/// Read a part written by `render --crop/--pixel-bounds/--tile -o X.exr`.
+/// Read a part written by `render --crop/--pixel-bounds/--tile -o X.exr`:
+/// its header first (so a crafted window is refused before any pixel is
+/// decoded), then its pixels, which must match the part's digest and be
+/// finite and non-negative.
 pub fn read_part(path: &Path) -> Result<Part> {
+    let name = path.display();
+    let unreadable = || {
+        format!("{name}: not a readable OpenEXR file (parts are the .exr files `render --tile`, `--crop` or `--pixel-bounds` writes)")
+    };
+    let meta = exr::meta::MetaData::read_from_file(path, false).with_context(unreadable)?;
+    let header = meta.headers.first().with_context(unreadable)?;
+    let (full, window) = windows(
+        &name.to_string(),
+        header.shared_attributes.display_window,
+        header.own_attributes.layer_position,
+        header.layer_size,
+    )?;
     let image = read_first_rgba_layer_from_file(
         path,
         |size, _| (size.width(), vec![[0f32; 3]; size.area()]),
         |(w, px), pos, (r, g, b, _a): (f32, f32, f32, f32)| px[pos.y() * *w + pos.x()] = [r, g, b],
     )
-    .with_context(|| format!("{}: not a readable OpenEXR file", path.display()))?;
-    let name = path.display();
+    .with_context(unreadable)?;
     let attrs = &image.layer_data.attributes;
     let get = |key: &str| {
         match attrs.other.get(&Text::from(key)) {
         Some(AttributeValue::Text(t)) => Ok(t.to_string()),
-        _ => bail!("{name}: not an nffkit part (no {key} attribute); render parts with --crop, --pixel-bounds or --tile into .exr"),
+        _ => bail!(
+            "{name}: not an nffkit part (no {key} attribute); render parts with --crop, --pixel-bounds or --tile into .exr"
+        ),
     }
     };
-    let display = image.attributes.display_window;
-    let (pos, size) = (attrs.layer_position, image.layer_data.size);
+    // The decoded layer must be the one the header described.
+    if windows(
+        &name.to_string(),
+        image.attributes.display_window,
+        attrs.layer_position,
+        image.layer_data.size,
+    )? != (full, window)
+    {
+        bail!("{name}: the part's windows changed between its header and its pixels");
+    }
+    let pixels = image.layer_data.channel_data.pixels.1;
+    let counters = get(COUNTERS)?;
+    if get(PART_DIGEST)? != part_digest(&pixels, &counters) {
+        bail!("{name}: the part's pixels or counters are not what render wrote (their digest differs); render it again");
+    }
+    if let Some(k) = pixels.iter().position(|p| p.iter().any(|c| !c.is_finite() || *c < 0.0)) {
+        let (x, y) = (
+            window.x0 as usize + k % window.width() as usize,
+            window.y0 as usize + k / window.width() as usize,
+        );
+        bail!("{name}: pixel ({x}, {y}) is {:?}, not a finite non-negative colour", pixels[k]);
+    }
+    Ok(Part {
+        path: path.to_path_buf(),
+        full,
+        window,
+        digest: get(DIGEST)?,
+        settings: get(SETTINGS)?,
+        counters: parse_counters(&counters)
+            .with_context(|| format!("{name}: unreadable counters `{counters}`"))?,
+        pixels,
+    })
+}
+
+/// The full image's size and the part's window, from a part's display
+/// window and data window (position and size), checked.
+fn windows(
+    name: &str,
+    display: IntegerBounds,
+    pos: Vec2<i32>,
+    size: Vec2<usize>,
+) -> Result<((u32, u32), PixelWindow)> {
     if display.position != Vec2(0, 0) || pos.x() < 0 || pos.y() < 0 {
         bail!("{name}: the part's windows do not start at 0,0 as nffkit writes them");
     }
@@ -228,18 +286,30 @@ pub fn read_part(path: &Path) -> Result<Part> {
     if x1 > fw || y1 > fh {
         bail!("{name}: the part's pixels reach outside its {fw}x{fh} image");
     }
+    if x1 == x0 || y1 == y0 {
+        bail!("{name}: the part has no pixels");
+    }
     let window = PixelWindow { x0: x0 as u32, x1: x1 as u32, y0: y0 as u32, y1: y1 as u32 };
-    let full = (fw as u32, fh as u32);
-    let counters = get(COUNTERS)?;
-    Ok(Part {
-        path: path.to_path_buf(),
-        full,
-        window,
-        digest: get(DIGEST)?,
-        settings: get(SETTINGS)?,
-        counters: parse_counters(&counters)
-            .with_context(|| format!("{name}: unreadable counters `{counters}`"))?,
-        pixels: image.layer_data.channel_data.pixels.1,
+    Ok(((fw as u32, fh as u32), window))
+}
+
+/// SHA-256 of a part's pixels (their bits, row by row) and its counters
+/// line, in hex: what render wrote, unedited.
+fn part_digest(pixels: &[[f32; 3]], counters: &str) -> String {
+    let mut h = Sha256::new();
+    for p in pixels {
+        for c in p {
+            h.update(c.to_bits().to_le_bytes());
+        }
+    }
+    h.update(counters.as_bytes());
+    hex(&h.finalize())
+}
+
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().fold(String::new(), |mut s, b| {
+        let _ = write!(s, "{b:02x}");
+        s
     })
 }
 

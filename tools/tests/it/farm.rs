@@ -243,3 +243,42 @@ fn bad_part_options_get_clear_errors() {
         assert!(!d.join("x.exr").exists());
     }
 }
+
+#[test]
+fn merge_refuses_edited_parts_bad_pixels_and_huge_windows() {
+    use nffkit_formats::image_io::RgbImage;
+    use nffkit_tools::render::part::encode_part;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("s.nff"), SCENE).unwrap();
+    ok(&run(RENDER, d, &["s.nff", "--tile", "0/2", "-o", "a0.exr", "-q", "--stats"]));
+    ok(&run(RENDER, d, &["s.nff", "--tile", "1/2", "-o", "a1.exr", "-q"]));
+    // Counters edited in place (one digit of `eye=`): the digest tells.
+    let mut bytes = std::fs::read(d.join("a1.exr")).unwrap();
+    let at = bytes.windows(4).position(|w| w == b"eye=").unwrap() + 4;
+    bytes[at] = if bytes[at] == b'9' { b'1' } else { bytes[at] + 1 };
+    std::fs::write(d.join("edited.exr"), &bytes).unwrap();
+    let e = err(&run(NFFMERGE, d, &["a0.exr", "edited.exr", "-o", "x.png"]));
+    assert!(e.contains("edited.exr: the part's pixels or counters are not what render wrote"), "{e}");
+
+    // A NaN pixel with a digest to match.
+    let counters = nffkit_tracer::stats::Counters::default();
+    let window = PixelWindow { x0: 0, x1: 2, y0: 0, y1: 1 };
+    let nan = RgbImage { width: 2, height: 1, pixels: vec![[0.5; 3], [f32::NAN, 0.0, 0.0]] };
+    let bytes = encode_part(&nan, (2, 2), window, "d", "s", &counters).unwrap();
+    std::fs::write(d.join("nan.exr"), bytes).unwrap();
+    let e = err(&run(NFFMERGE, d, &["nan.exr", "-o", "x.png"]));
+    assert!(e.contains("nan.exr: pixel (1, 0) is [NaN, 0.0, 0.0], not a finite non-negative colour"), "{e}");
+    // A window past what render makes, refused from the header.
+    let one = RgbImage { width: 1, height: 1, pixels: vec![[0.5; 3]] };
+    let window = PixelWindow { x0: 0, x1: 1, y0: 0, y1: 1 };
+    let bytes = encode_part(&one, (46000, 46000), window, "d", "s", &counters).unwrap();
+    std::fs::write(d.join("huge.exr"), bytes).unwrap();
+    let e = err(&run(NFFMERGE, d, &["huge.exr", "-o", "x.png"]));
+    assert!(e.contains("huge.exr: a 46000x46000 image is larger than nffkit renders"), "{e}");
+    // A PNG given as a part says what parts are.
+    ok(&run(RENDER, d, &["s.nff", "-o", "p.png", "-q"]));
+    let e = err(&run(NFFMERGE, d, &["p.png", "-o", "x.png"]));
+    assert!(e.contains("parts are the .exr files `render --tile`"), "{e}");
+    assert!(!d.join("x.png").exists());
+}
