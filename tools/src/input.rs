@@ -5,6 +5,7 @@ use anyhow::{bail, Context, Result};
 use nffkit_formats::nff::{self, escape, ParseOptions, Parsed, Report, Severity};
 use std::io::Read;
 use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Files at least this large are memory-mapped rather than read, which
 /// would copy every byte into freshly zeroed memory; smaller files gain
@@ -30,22 +31,71 @@ impl std::ops::Deref for Source {
     }
 }
 
-/// The bytes of `path`, or of standard input when `path` is `-`.
+/// The bytes of `path`, or of standard input when `path` is `-`. Regular
+/// files are read or mapped whole; anything else (standard input, a pipe,
+/// a device) is a stream, read as [`read_stream`] says.
 pub fn read_source(path: &Path) -> Result<Source> {
     if path.as_os_str() == "-" {
-        let mut buf = Vec::new();
-        std::io::stdin().read_to_end(&mut buf).context("reading the scene from standard input")?;
-        return Ok(Source::Read(buf));
+        return read_stream(&mut std::io::stdin().lock(), "standard input", stream_cap()).map(Source::Read);
     }
     let cannot = || format!("cannot read {}", path.display());
     let file = std::fs::File::open(path).with_context(cannot)?;
     let meta = file.metadata().with_context(cannot)?;
-    if meta.is_file() && meta.len() >= MAP_MIN_BYTES {
+    if !meta.is_file() {
+        let mut file = file;
+        return read_stream(&mut file, &path.display().to_string(), stream_cap()).map(Source::Read);
+    }
+    if meta.len() >= MAP_MIN_BYTES {
         if let Some(map) = map(&file) {
             return Ok(Source::Mapped(map));
         }
     }
     std::fs::read(path).map(Source::Read).with_context(cannot)
+}
+
+/// A stream's bytes, read a megabyte at a time until it ends, or until a
+/// NUL byte shows it is not text (`/dev/zero`, `/dev/urandom`, a binary
+/// file; what was read goes to the reader, which names the problem at its
+/// line), or refused when it passes `cap` bytes (a pipe fed for ever).
+pub fn read_stream(r: &mut impl Read, name: &str, cap: u64) -> Result<Vec<u8>> {
+    const CHUNK: usize = 1 << 20;
+    let mut buf = Vec::new();
+    loop {
+        let start = buf.len();
+        let n = r.take(CHUNK as u64).read_to_end(&mut buf).with_context(|| format!("reading {name}"))?;
+        if n == 0 || buf[start..].contains(&0) {
+            return Ok(buf);
+        }
+        if buf.len() as u64 > cap {
+            bail!(
+                "{name} passed {} without ending: a scene from a stream is read whole, up to \
+                 {} (render --stream-limit MB raises it, to at most a third of the memory \
+                 available); a file is mapped instead, without a limit",
+                crate::memory::gib(buf.len() as u64),
+                crate::memory::gib(cap)
+            );
+        }
+    }
+}
+
+/// The most a stream may bring, set by `render --stream-limit`.
+static STREAM_LIMIT: AtomicU64 = AtomicU64::new(DEFAULT_STREAM_LIMIT);
+
+/// 2 GiB: more than any SPD database at its published size, and soon
+/// reached by a pipe fed for ever.
+pub const DEFAULT_STREAM_LIMIT: u64 = 2 << 30;
+
+/// Set the most a stream may bring (this process's setting).
+pub fn set_stream_limit(bytes: u64) {
+    STREAM_LIMIT.store(bytes, Ordering::Relaxed);
+}
+
+/// The most a stream may bring: the limit set, and at most a third of the
+/// memory available (the scene read from it takes about twice its size
+/// again), but no less than 256 MB.
+pub fn stream_cap() -> u64 {
+    let memory = crate::memory::available().map_or(u64::MAX, |m| (m / 3).max(256 << 20));
+    STREAM_LIMIT.load(Ordering::Relaxed).min(memory)
 }
 
 /// Map `file` for reading; `None` where mapping fails (then it is read).

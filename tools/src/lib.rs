@@ -18,6 +18,7 @@ pub mod cli_util;
 pub mod demo;
 pub mod gen;
 pub mod input;
+pub mod memory;
 pub mod mesh2nff;
 pub mod outputs;
 pub mod qa;

@@ -55,7 +55,7 @@ pub(super) fn parse_in_chunks(src: &[u8], opts: &ParseOptions, chunks: usize) ->
             .map(|(i, &(piece, line))| {
                 // The first chunk's list becomes the whole file's (see
                 // `join`), so it is given room for all of it.
-                let room = primitives_hint(if i == 0 { src.len() } else { piece.len() });
+                let room = primitives_hint(piece, if i == 0 { src.len() } else { piece.len() });
                 scope.spawn(move || {
                     let (scene, diags) = parse_chunk(piece, line, opts, room);
                     (scene, diags.is_empty())
@@ -100,7 +100,8 @@ fn next_entity_line(src: &[u8], from: usize) -> Option<usize> {
 }
 
 /// Join chunk scenes in order, or `None` if the sequential reader would
-/// have said something the chunks could not (module doc).
+/// have said something the chunks could not (module doc), or the joined
+/// list cannot be had (the sequential reader then grows its own).
 fn join(parts: Vec<(Scene, bool)>, opts: &ParseOptions) -> Option<Parsed> {
     let total = parts.iter().map(|(p, _)| p.primitives.len()).sum::<usize>();
     let mut parts = parts.into_iter();
@@ -111,7 +112,9 @@ fn join(parts: Vec<(Scene, bool)>, opts: &ParseOptions) -> Option<Parsed> {
     if !quiet {
         return None;
     }
-    scene.primitives.reserve_exact(total - scene.primitives.len());
+    if scene.primitives.try_reserve_exact(total - scene.primitives.len()).is_err() {
+        return None;
+    }
     for (part, quiet) in parts {
         let objects_before = !scene.primitives.is_empty();
         if !quiet

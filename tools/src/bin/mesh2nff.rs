@@ -105,8 +105,11 @@ fn run(a: &Args) -> Result<()> {
     }
     let import = ImportOptions { textures: !a.no_textures, allow_outside_paths: a.allow_outside_paths };
     let mesh = if a.model.as_os_str() == "-" {
-        let mut bytes = Vec::new();
-        std::io::Read::read_to_end(&mut std::io::stdin(), &mut bytes).context("reading standard input")?;
+        let bytes = nffkit_tools::input::read_stream(
+            &mut std::io::stdin().lock(),
+            "standard input",
+            nffkit_tools::input::stream_cap(),
+        )?;
         nffkit_formats::mesh::load_obj_bytes(
             &bytes,
             std::path::Path::new("<stdin>"),

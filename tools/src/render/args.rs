@@ -58,6 +58,12 @@ pub struct RenderArgs {
     /// are printed and the rest counted ("... and 24518 more like ...").
     #[arg(long, conflicts_with = "quiet")]
     pub all_warnings: bool,
+    /// The most a scene read from a stream (standard input, a pipe, a
+    /// device) may bring, in MB, before render gives up on it (default
+    /// 2048; never more than a third of the memory available). Files are
+    /// mapped, without a limit.
+    #[arg(long, value_name = "MB", value_parser = clap::value_parser!(u64).range(1..=1 << 30))]
+    pub stream_limit: Option<u64>,
     /// Print ray and traversal statistics to standard output.
     #[arg(long)]
     pub stats: bool,

@@ -174,3 +174,32 @@ fn a_closed_pipe_ends_quietly_and_a_full_disk_is_an_error() {
         assert!(d.join("x.png").is_file());
     }
 }
+
+#[cfg(target_os = "linux")]
+#[test]
+fn memory_is_refused_early_not_exhausted() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // The largest image render accepts (2^27 pixels) under a 4 GB
+    // address-space limit: refused before rendering, not an abort.
+    let big =
+        "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 11585 11585\nl 1 1 5\ns 0 0 0 1\n";
+    std::fs::write(d.join("big.nff"), big).unwrap();
+    let script = format!("ulimit -v 4000000; exec {RENDER} big.nff -o big.exr --aov-cost c.png");
+    let t = std::time::Instant::now();
+    let o = Command::new("sh").args(["-c", &script]).current_dir(d).output().unwrap();
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("a 11585x11585 image needs about 10.7 GB of memory"), "{}", stderr(&o));
+    assert!(t.elapsed().as_secs() < 10);
+    // Endless streams: NUL bytes end the reading at once; text fed for
+    // ever stops at the stream limit.
+    for dev in ["/dev/zero", "/dev/urandom"] {
+        let o = run_in(d, RENDER, &[dev, "-o", "z.png"]);
+        assert_eq!(o.status.code(), Some(1), "{dev}: {}", stderr(&o));
+        assert!(stderr(&o).contains(&format!("{dev}: line 1")), "{}", stderr(&o));
+    }
+    let script = format!("yes 's 0 0 0 1' | {RENDER} - -o z.png --stream-limit 20");
+    let o = Command::new("sh").args(["-c", &script]).current_dir(d).output().unwrap();
+    assert!(stderr(&o).contains("standard input passed 21 MB without ending"), "{}", stderr(&o));
+    assert_eq!(names(d), ["big.nff"]);
+}

@@ -91,7 +91,7 @@ pub fn parse_sequential(src: &[u8], opts: &ParseOptions) -> Result<Parsed, Parse
         return Err(utf16_error(encoding));
     }
     let mut p = Parser::new(strip_dos_eof(src), 1, *opts);
-    p.scene.primitives.reserve(primitives_hint(src.len()));
+    reserve_room(&mut p.scene.primitives, primitives_hint(src, src.len()));
     if bom {
         p.diags.push(Diagnostic {
             severity: Severity::Warning,
@@ -160,18 +160,37 @@ pub(super) fn parse_chunk(
     primitives: usize,
 ) -> (Scene, Vec<Diagnostic>) {
     let mut p = Parser::new(src, first_line, ParseOptions { fragment: true, ..*opts });
-    p.scene.primitives.reserve(primitives);
+    reserve_room(&mut p.scene.primitives, primitives);
     p.run();
     (p.scene, p.diags)
 }
 
-/// Room to make for the primitives of `bytes` of NFF: one per 40 bytes, the
-/// shortest an SPD line gets (`s 0.272166 0.272166 0.544331 0.166667`).
-/// Reserving up front spares a large list its copies as it doubles (and
-/// the higher peak they make); room never written costs address space, not
-/// memory.
-pub(super) fn primitives_hint(bytes: usize) -> usize {
-    bytes / 40
+/// Room to make for the primitives of `bytes` bytes of NFF like `sample`:
+/// as many as the sample's density of object lines (`s`, `p`, `pp`, `c`,
+/// `pl`, `aabb` at a line's start) predicts, and a tenth more. Reserving
+/// up front spares a large list its copies as it doubles (and the higher
+/// peak they make); a sample without objects (a long view or comment)
+/// predicts one per 40 bytes, the shortest an SPD line gets, up to 2^20.
+pub(super) fn primitives_hint(sample: &[u8], bytes: usize) -> usize {
+    let sample = &sample[..sample.len().min(1 << 20)];
+    let objects = std::iter::once(sample)
+        .chain(sample.split(|&b| b == b'\n').skip(1))
+        .filter(|line| {
+            let word = line.split(|b| b.is_ascii_whitespace()).next().unwrap_or_default();
+            matches!(word, b"s" | b"p" | b"pp" | b"c" | b"pl" | b"aabb")
+        })
+        .count();
+    if objects == 0 || sample.is_empty() {
+        return (bytes / 40).min(1 << 20);
+    }
+    let per_byte = objects as f64 / sample.len() as f64;
+    (per_byte * bytes as f64 * 1.1) as usize + 16
+}
+
+/// Make room for `n` more primitives if the allocator can give it; where
+/// it cannot (a hint too large for the machine), the list grows as read.
+pub(super) fn reserve_room(list: &mut Vec<crate::scene::Primitive>, n: usize) {
+    let _ = list.try_reserve(n);
 }
 
 /// The source without a DOS end-of-file byte (0x1A, Ctrl-Z) at its end, as
@@ -733,5 +752,26 @@ impl<'a> Parser<'a> {
         } else {
             Ok(Parsed { scene: self.scene, diagnostics: self.diags })
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::primitives_hint;
+
+    #[test]
+    fn room_follows_the_files_density_of_objects() {
+        // Long numbers (as sphereflake writes them): 85 bytes a sphere, so
+        // one per 40 bytes would reserve more than twice the room.
+        let line = "s 0.27216552697590868 0.27216552697590868 0.54433105395181736 0.16666666666666666\n";
+        let src = format!("v\nfrom 0 0 5\n{}", line.repeat(1000));
+        let hint = primitives_hint(src.as_bytes(), src.len() * 1000);
+        assert!((1_000_000..=1_150_000).contains(&hint), "{hint}");
+        // Polygons: one object per four lines.
+        let poly = "p 3\n0 0 0\n1 0 0\n0 1 0\n".repeat(500);
+        let hint = primitives_hint(poly.as_bytes(), poly.len());
+        assert!((500..=600).contains(&hint), "{hint}");
+        // No object in the sample: a bounded guess.
+        assert_eq!(primitives_hint(b"# comment\n", 1 << 40), 1 << 20);
     }
 }
