@@ -45,11 +45,20 @@ pub fn parse_pair(s: &str) -> Result<DVec2, String> {
 
 /// `W,H` as two positive whole numbers.
 pub fn parse_resolution(s: &str) -> Result<[u32; 2], String> {
+    two_counts(s, "W,H")
+}
+
+/// `NX,NY` (squares across and down) as two positive whole numbers.
+pub fn parse_squares(s: &str) -> Result<[u32; 2], String> {
+    two_counts(s, "NX,NY")
+}
+
+fn two_counts(s: &str, form: &str) -> Result<[u32; 2], String> {
     let parts: Vec<&str> = s.split(',').collect();
     let parsed: Vec<u32> = parts.iter().filter_map(|p| p.trim().parse::<u32>().ok()).collect();
     match parsed[..] {
         [w, h] if parts.len() == 2 && w > 0 && h > 0 && w <= 65536 && h <= 65536 => Ok([w, h]),
-        _ => Err(format!("expected two whole numbers from 1 to 65536 as W,H, found `{s}`")),
+        _ => Err(format!("expected two whole numbers from 1 to 65536 as {form}, found `{s}`")),
     }
 }
 
@@ -102,6 +111,9 @@ pub fn print(text: impl std::fmt::Display) -> Result<()> {
 /// result becomes the exit code through [`exit`].
 pub fn run_main(tool: &str, body: impl FnOnce() -> Result<ExitCode>) -> ExitCode {
     remove_partial_files_on_interrupt();
+    if let Some(problem) = nffkit_tracer::simd::cap_problem() {
+        eprintln_safe!("{tool}: warning: {problem}");
+    }
     match body() {
         Ok(code) => code,
         Err(e) => exit(Err(e), tool),

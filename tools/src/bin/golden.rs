@@ -6,10 +6,10 @@ use nffkit_formats::image_io;
 use nffkit_tools::cli_util;
 use nffkit_tools::qa::golden::Case;
 use nffkit_tools::qa::golden::{
-    check_case, compare, find_scenes_dir, html_report, load_catalogue, read_png, render_case,
+    check_case, compare, find_scenes_dir, html_report, load_catalogue, read_png, render_case, summary_line,
 };
 use rayon::prelude::*;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -42,9 +42,10 @@ enum Command {
     /// Render every case, compare with its golden and write an HTML report
     /// (expected, actual and difference side by side) for review.
     Check {
-        /// Where the report goes.
-        #[arg(long, default_value = "target/golden/report")]
-        report: PathBuf,
+        /// Where the report goes (default: target/golden/report in the
+        /// checkout, beside the scenes folder).
+        #[arg(long, value_name = "DIR")]
+        report: Option<PathBuf>,
     },
 }
 
@@ -120,9 +121,24 @@ fn run(a: &Args) -> Result<bool> {
                 ))?;
                 all.push(c);
             }
-            let ok = all.iter().all(|c| c.failure.is_none());
-            cli_util::print(format_args!("report: {}\n", html_report(&all, report)?.display()))?;
-            Ok(ok)
+            let failed: Vec<&str> =
+                all.iter().filter(|c| c.failure.is_some()).map(|c| c.case.name.as_str()).collect();
+            let report = match report {
+                Some(r) => r.clone(),
+                None => scenes.parent().unwrap_or(Path::new(".")).join("target/golden/report"),
+            };
+            cli_util::print(format_args!(
+                "{}\nreport: {}\n",
+                summary_line(all.len(), failed.len()),
+                html_report(&all, &report)?.display()
+            ))?;
+            if !failed.is_empty() {
+                cli_util::print(format_args!(
+                    "if the change is intended: golden update {}\n",
+                    failed.join(" ")
+                ))?;
+            }
+            Ok(failed.is_empty())
         }
     }
 }

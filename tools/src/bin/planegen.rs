@@ -14,7 +14,7 @@ use std::process::ExitCode;
 /// Write an XY-aligned checkerboard of `p 4` squares as an NFF scene (with a
 /// view, a light and a background), or add it to an existing scene.
 #[derive(Parser, Debug)]
-#[command(name = "planegen", version)]
+#[command(name = "planegen", version, allow_negative_numbers = true)]
 struct Args {
     #[command(flatten)]
     board: Board,

@@ -29,7 +29,7 @@ struct Args {
     #[arg(long, value_enum, default_value_t = AccelKind::Bvh)]
     accel: AccelKind,
     /// Repetitions; the best is reported.
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
     runs: u32,
 }
 

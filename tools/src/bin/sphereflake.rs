@@ -15,7 +15,7 @@ use std::process::ExitCode;
 /// output streams, so level 7 (5.4 million spheres) needs no memory to speak
 /// of.
 #[derive(Parser, Debug)]
-#[command(name = "sphereflake", version)]
+#[command(name = "sphereflake", version, allow_negative_numbers = true)]
 struct Args {
     #[command(flatten)]
     flake: Sphereflake,

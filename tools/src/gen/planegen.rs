@@ -71,10 +71,13 @@ impl Board {
                 bail!("{name} components must be between 0 and 1 (got {},{},{})", c.x, c.y, c.z);
             }
         }
-        for (name, v) in [("--kd", self.kd), ("--ks", self.ks), ("--shine", self.shine), ("--z", self.z)] {
-            if !v.is_finite() || (name != "--z" && v < 0.0) {
+        for (name, v) in [("--kd", self.kd), ("--ks", self.ks), ("--shine", self.shine)] {
+            if !v.is_finite() || v < 0.0 {
                 bail!("{name} must be a finite, non-negative number (got {v})");
             }
+        }
+        if !self.z.is_finite() {
+            bail!("--z must be a finite number (got {})", self.z);
         }
         if !self.center.is_finite() {
             bail!("--center must be finite");

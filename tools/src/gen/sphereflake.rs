@@ -9,7 +9,7 @@
 //! equator 15°+120k, equator 75°+120k). A child's frame is the minimal
 //! rotation taking +Z to its direction. Output is depth-first pre-order.
 
-use crate::cli_util::{parse_args, parse_resolution};
+use crate::cli_util::{parse_args, parse_resolution, parse_squares};
 use crate::gen::planegen::Board;
 use anyhow::{bail, Result};
 use glam::{DMat3, DVec2, DVec3};
@@ -45,7 +45,7 @@ pub struct Sphereflake {
     pub no_floor: bool,
     /// Put a checkerboard of NX,NY squares under the flake instead of the
     /// single floor square.
-    #[arg(long, value_parser = parse_resolution, value_name = "NX,NY")]
+    #[arg(long, value_parser = parse_squares, value_name = "NX,NY")]
     pub checker: Option<[u32; 2]>,
 }
 
@@ -153,9 +153,10 @@ impl Sphereflake {
     pub fn validate(&self) -> Result<()> {
         if self.level > MAX_LEVEL {
             bail!(
-                "--level {} would write {} spheres; the limit is {MAX_LEVEL}",
+                "--level {} would write {} spheres; the highest level is {MAX_LEVEL} ({} spheres)",
                 self.level,
-                sphere_count(self.level)
+                sphere_count(self.level),
+                sphere_count(MAX_LEVEL)
             );
         }
         Ok(())

@@ -13,9 +13,9 @@ use crate::cli_util::parse_args;
 use crate::gen::default_scene::default_scene;
 use crate::gen::planegen::Board;
 use crate::gen::sphereflake::Sphereflake;
-use crate::input;
 use crate::render::args::render_config_from;
-use anyhow::{Context, Result};
+use crate::{input, memory};
+use anyhow::{bail, Context, Result};
 use nffkit_formats::atomic;
 use nffkit_formats::image_io::{self, RgbImage};
 use nffkit_formats::nff::{self, ParseOptions};
@@ -103,11 +103,33 @@ pub fn find_scenes_dir(start: &Path, hint: &str) -> Result<PathBuf> {
         })
 }
 
-/// Read the catalogue.
+/// Read the catalogue, checked: every name (and golden name) a plain file
+/// name, since it names files under `golden/` and the report; no name
+/// twice.
 pub fn load_catalogue(scenes: &Path) -> Result<Catalogue> {
     let path = scenes.join("catalogue.toml");
     let text = std::fs::read_to_string(&path).with_context(|| format!("cannot read {}", path.display()))?;
-    toml::from_str(&text).with_context(|| format!("{}", path.display()))
+    let catalogue: Catalogue = toml::from_str(&text).with_context(|| format!("{}", path.display()))?;
+    let mut seen = std::collections::HashSet::new();
+    for case in &catalogue.case {
+        for (what, name) in [("name", Some(&case.name)), ("golden", case.golden.as_ref())] {
+            let Some(name) = name else { continue };
+            let plain = !name.is_empty()
+                && !name.starts_with('.')
+                && name.chars().all(|c| c.is_ascii_alphanumeric() || "_-.".contains(c));
+            if !plain {
+                bail!(
+                    "{}: case `{}`: {what} `{name}` must be a plain file name (letters, digits, `_`, `-`, `.`; not starting with `.`)",
+                    path.display(),
+                    case.name
+                );
+            }
+        }
+        if !seen.insert(&case.name) {
+            bail!("{}: two cases are named `{}`", path.display(), case.name);
+        }
+    }
+    Ok(catalogue)
 }
 
 /// Make a case's scene with the generators' library code.
@@ -118,12 +140,20 @@ pub fn scene_of(case: &Case, scenes: &Path) -> Result<Scene> {
             let board: Board =
                 parse_args(args).with_context(|| format!("case {}: planegen options", case.name))?;
             board.validate()?;
+            // The binary streams its squares; here they are held (a polygon
+            // and its vertices, then the renderer's triangles: ~700 bytes).
+            let squares = board.nx as u64 * board.ny as u64;
+            memory::check(&format!("case {}: a board of {squares} squares", case.name), squares * 700)?;
             board.scene()
         }
         Source::Sphereflake(args) => {
             let flake: Sphereflake =
                 parse_args(args).with_context(|| format!("case {}: sphereflake options", case.name))?;
             flake.validate()?;
+            // Held in memory, unlike the binary's stream: a sphere is
+            // ~96 bytes read, ~200 more rendered.
+            let spheres = crate::gen::sphereflake::sphere_count(flake.level);
+            memory::check(&format!("case {}: sphereflake level {}", case.name, flake.level), spheres * 300)?;
             flake.scene()
         }
         Source::Mesh(m) => {
@@ -233,8 +263,14 @@ pub fn read_png(path: &Path) -> Result<RgbImage> {
 pub fn check_case(case: &Case, scenes: &Path, threads: usize) -> Result<Checked> {
     let actual = render_case(case, scenes, threads)?;
     let golden = scenes.join("golden").join(format!("{}.png", case.golden_name()));
-    let expected = if golden.exists() { Some(read_png(&golden)?) } else { None };
+    // An unreadable golden is this case's failure, not the check's end.
+    let (expected, unreadable) = match golden.exists().then(|| read_png(&golden)) {
+        None => (None, None),
+        Some(Ok(img)) => (Some(img), None),
+        Some(Err(e)) => (None, Some(format!("{e:#}"))),
+    };
     let (diff, flip_map, failure) = match &expected {
+        None if unreadable.is_some() => (None, None, unreadable),
         None => (None, None, Some(format!("no golden image {}", golden.display()))),
         Some(e) if (e.width, e.height) != (actual.width, actual.height) => (
             None,
@@ -297,15 +333,18 @@ pub fn write_failure_images(c: &Checked, dir: &Path) -> Result<CaseImages> {
     Ok(CaseImages { actual, expected, diff, flip })
 }
 
-/// The HTML review page: every case with expected, actual and difference.
+/// The HTML review page: a summary, then every case with expected, actual
+/// and difference, the failures first.
 pub fn html_report(checked: &[Checked], dir: &Path) -> Result<PathBuf> {
     std::fs::create_dir_all(dir)?;
     let mut rows = String::new();
-    for c in checked {
+    let failed: Vec<&Checked> = checked.iter().filter(|c| c.failure.is_some()).collect();
+    let passed = checked.iter().filter(|c| c.failure.is_none());
+    for c in failed.iter().copied().chain(passed) {
         let images = write_failure_images(c, dir)?;
         let status = match &c.failure {
             None => "<td class=ok>pass</td>".to_string(),
-            Some(f) => format!("<td class=bad>FAIL: {f}</td>"),
+            Some(f) => format!("<td class=bad>FAIL: {}</td>", escape_html(f)),
         };
         let figures =
             c.diff.map_or("-".into(), |d| format!("bad {:.3}%, mean FLIP {:.5}", d.bad * 100.0, d.flip));
@@ -315,22 +354,33 @@ pub fn html_report(checked: &[Checked], dir: &Path) -> Result<PathBuf> {
         };
         rows += &format!(
             "<tr><td>{}</td>{status}<td>{figures}</td>{}{}{}{}</tr>\n",
-            c.case.name,
+            escape_html(&c.case.name),
             img(images.expected.as_ref()),
             img(Some(&images.actual)),
             img(images.diff.as_ref()),
             img(images.flip.as_ref())
         );
     }
+    let summary = summary_line(checked.len(), failed.len());
+    let summary_class = if failed.is_empty() { "ok" } else { "bad" };
     let html = format!(
         "<!doctype html><meta charset=utf-8><title>nffkit golden images</title>\
          <style>body{{font-family:sans-serif}}td{{padding:4px;vertical-align:top}}img{{image-rendering:pixelated;width:192px}}\
          .ok{{color:green}}.bad{{color:#b00}}</style>\
-         <h1>Golden images</h1><table><tr><th>case</th><th>status</th><th>metrics</th><th>expected</th><th>actual</th><th>difference (x4)</th><th>FLIP error</th></tr>\n{rows}</table>\n"
+         <h1>Golden images</h1><p class={summary_class}>{summary}</p><table><tr><th>case</th><th>status</th><th>metrics</th><th>expected</th><th>actual</th><th>difference (x4)</th><th>FLIP error</th></tr>\n{rows}</table>\n"
     );
     let path = dir.join("index.html");
     atomic::write_bytes(&path, html.as_bytes())?;
     Ok(path)
+}
+
+/// "31 cases: 30 passed, 1 failed".
+pub fn summary_line(cases: usize, failed: usize) -> String {
+    format!("{cases} cases: {} passed, {failed} failed", cases - failed)
+}
+
+fn escape_html(s: &str) -> String {
+    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
 }
 
 #[cfg(test)]
@@ -364,7 +414,7 @@ mod tests {
         for (bad, says) in [
             ("{ planegen = [\"--nx\", \"0\"] }", "--nx and --ny must be at least 1"),
             ("{ planegen = [\"--squares\", \"2\"] }", "--squares"),
-            ("{ sphereflake = [\"--level\", \"10\"] }", "the limit is 9"),
+            ("{ sphereflake = [\"--level\", \"10\"] }", "the highest level is 9"),
         ] {
             let e = format!("{:#}", scene(bad).unwrap_err());
             assert!(e.contains(says), "{bad}: {e}");

@@ -203,3 +203,74 @@ fn memory_is_refused_early_not_exhausted() {
     assert!(stderr(&o).contains("standard input passed 21 MB without ending"), "{}", stderr(&o));
     assert_eq!(names(d), ["big.nff"]);
 }
+
+const GOLDEN: &str = env!("CARGO_BIN_EXE_golden");
+
+/// A scenes folder with a catalogue of `cases` (TOML).
+fn scenes_with(cases: &str) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    let scenes = dir.path().join("scenes");
+    std::fs::create_dir_all(scenes.join("golden")).unwrap();
+    std::fs::write(scenes.join("catalogue.toml"), cases).unwrap();
+    dir
+}
+
+#[test]
+fn golden_checks_its_catalogue_and_reports_every_case() {
+    // A name that would write outside the goldens folder.
+    let dir = scenes_with("[[case]]\nname = \"../../../escaped\"\nsource = \"default\"\nrender = [\"--width\", \"8\", \"--height\", \"8\"]\n");
+    let o = run_in(dir.path(), GOLDEN, &["update"]);
+    assert!(stderr(&o).contains("name `../../../escaped` must be a plain file name"), "{}", stderr(&o));
+    assert!(!dir.path().parent().unwrap().join("escaped.png").exists());
+
+    // One golden unreadable, one fine: the first fails, the second is
+    // still checked, and the totals and the way to accept are printed.
+    let case = |n: &str| {
+        format!("[[case]]\nname = \"{n}\"\nsource = \"default\"\nrender = [\"--width\", \"8\", \"--height\", \"8\"]\n")
+    };
+    let dir = scenes_with(&(case("broken") + &case("fine")));
+    let d = dir.path();
+    assert!(run_in(d, GOLDEN, &["update"]).status.success());
+    std::fs::write(d.join("scenes/golden/broken.png"), b"not a png").unwrap();
+    let o = run_in(d, GOLDEN, &["check"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(1), "{out}{}", stderr(&o));
+    assert!(out.contains("broken") && out.contains("cannot read"), "{out}");
+    assert!(out.contains("fine                         pass"), "{out}");
+    assert!(out.contains("2 cases: 1 passed, 1 failed"), "{out}");
+    assert!(out.contains("if the change is intended: golden update broken"), "{out}");
+    // The report lands in the checkout (beside scenes/), failures first.
+    let html = std::fs::read_to_string(d.join("target/golden/report/index.html")).unwrap();
+    assert!(html.contains("2 cases: 1 passed, 1 failed"));
+    assert!(html.find(">broken<").unwrap() < html.find(">fine<").unwrap());
+
+    // Generator options past what memory holds are refused, not tried.
+    let dir = scenes_with("[[case]]\nname = \"huge\"\nsource = { sphereflake = [\"--level\", \"9\"] }\n");
+    let o = run_in(dir.path(), GOLDEN, &["check"]);
+    assert!(stderr(&o).contains("case huge: sphereflake level 9 needs about"), "{}", stderr(&o));
+}
+
+#[test]
+fn messages_name_the_right_thing() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let says = |bin: &str, args: &[&str], what: &str| {
+        let o = run_in(d, bin, args);
+        assert!(!o.status.success(), "{args:?} accepted");
+        assert!(stderr(&o).contains(what), "{args:?}: {}", stderr(&o));
+    };
+    says(SPHEREFLAKE, &["--level", "12"], "the highest level is 9 (435848050 spheres)");
+    says(SPHEREFLAKE, &["--checker", "0,0"], "as NX,NY");
+    says(PLANEGEN, &["--z=-1e400"], "--z must be a finite number");
+    says(PLANEGEN, &["--nx", "-3"], "invalid value '-3' for '--nx <NX>'");
+    says(env!("CARGO_BIN_EXE_raybench"), &["--runs", "0", "x.nff"], "0 is not in 1..=1000");
+    says(env!("CARGO_BIN_EXE_table1"), &[], "pass --spd-dir DIR");
+    says(NFFBENCH, &[], "pass --spd-dir DIR");
+    says(NFFMERGE, &["missing.exr", "-o", "x.png"], "parts are the .exr files");
+    let o =
+        Command::new(PLANEGEN).args(["--nx", "1", "--ny", "1"]).env("NFFKIT_SIMD", "sse9").output().unwrap();
+    assert!(stderr(&o).contains("NFFKIT_SIMD=sse9 names no instruction set"), "{}", stderr(&o));
+    // The OS error once, not twice.
+    let o = run_in(d, NFFMERGE, &["missing.exr", "-o", "x.png"]);
+    assert_eq!(stderr(&o).matches("os error 2").count(), 1, "{}", stderr(&o));
+}

@@ -60,6 +60,15 @@ impl Isa {
     }
 }
 
+/// What is wrong with `NFFKIT_SIMD`, if it is set to no instruction set's
+/// name (it is then ignored): for the tools to say so.
+pub fn cap_problem() -> Option<String> {
+    let v = std::env::var("NFFKIT_SIMD").ok()?;
+    let names: Vec<&str> = Isa::VARIANTS.iter().map(|i| <&str>::from(*i)).collect();
+    (!names.contains(&v.trim()))
+        .then(|| format!("NFFKIT_SIMD={v} names no instruction set ({}); ignored", names.join(", ")))
+}
+
 /// The instruction set the kernels use: the widest supported, capped by
 /// `NFFKIT_SIMD` when set.
 pub fn isa() -> Isa {
