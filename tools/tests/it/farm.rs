@@ -282,3 +282,176 @@ fn merge_refuses_edited_parts_bad_pixels_and_huge_windows() {
     assert!(e.contains("parts are the .exr files `render --tile`"), "{e}");
     assert!(!d.join("x.png").exists());
 }
+
+/// A program a farm test runs, or `None` (the test is skipped, saying so)
+/// where it is missing, unless `scripts/test-all.sh` set
+/// NFFKIT_TEST_TOOLS=required, as CI does: then a missing one fails.
+fn program(name: &str) -> Option<std::path::PathBuf> {
+    let venv = std::env::var_os("NFFKIT_TEST_VENV").map(|v| Path::new(&v).join("bin").join(name));
+    let found = venv.filter(|p| p.is_file()).or_else(|| {
+        let o = Command::new("sh").args(["-c", &format!("command -v {name}")]).output().ok()?;
+        o.status.success().then(|| String::from_utf8_lossy(&o.stdout).trim().into())
+    });
+    if found.is_none() {
+        let required = std::env::var("NFFKIT_TEST_TOOLS").is_ok_and(|v| v == "required");
+        assert!(!required, "{name} is missing (scripts/test-all.sh installs it)");
+        eprintln!("skipped: {name} is not installed (scripts/test-all.sh installs it)");
+    }
+    found
+}
+
+fn examples() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples")
+}
+
+/// The bytes of a full render of `s.nff` in `d` at 64x64, as `name`.
+fn full_render(d: &Path, name: &str) -> Vec<u8> {
+    ok(&run(RENDER, d, &["s.nff", "-o", name, "--width", "64", "--height", "64", "-q"]));
+    std::fs::read(d.join(name)).unwrap()
+}
+
+#[test]
+fn the_parallel_script_holds() {
+    let Some(_) = program("parallel") else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("s.nff"), SCENE).unwrap();
+    ok(&run(RENDER, d, &["s.nff", "-o", "full.png", "--width", "16", "--height", "256", "-q"]));
+    let full = std::fs::read(d.join("full.png")).unwrap();
+    // N left out, the binaries by relative paths (the script changes folder).
+    std::fs::create_dir(d.join("sub")).unwrap();
+    std::os::unix::fs::symlink(Path::new(RENDER).parent().unwrap(), d.join("sub/bin")).unwrap();
+    let rel = |b: &str| format!("bin/{b}");
+    let script = examples().join("render-parallel.sh");
+    let o = Command::new("bash")
+        .arg(&script)
+        .args(["../s.nff", "out.png", "--width", "16", "--height", "256"])
+        .env("RENDER", rel("render"))
+        .env("NFFMERGE", rel("nffmerge"))
+        .current_dir(d.join("sub"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(std::fs::read(d.join("sub/out.png")).unwrap(), full);
+    // A failed merge keeps the parts and says where.
+    let o = Command::new("bash")
+        .arg(&script)
+        .args(["s.nff", "x.png", "4", "--width", "64", "--height", "64"])
+        .env("RENDER", RENDER)
+        .env("NFFMERGE", "false")
+        .current_dir(d)
+        .output()
+        .unwrap();
+    let e = err(&o);
+    let kept = e.split("the parts are kept in ").nth(1).expect(&e).trim();
+    let parts = std::fs::read_dir(kept)
+        .unwrap()
+        .filter(|e| e.as_ref().unwrap().file_name().to_string_lossy().starts_with("part-"));
+    assert_eq!(parts.count(), 4, "{e}");
+    std::fs::remove_dir_all(kept).unwrap();
+}
+
+#[test]
+fn the_slurm_script_renders_any_evenly_stepped_array() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("s.nff"), SCENE).unwrap();
+    let full = full_render(d, "full.png");
+    let bin = Path::new(RENDER).parent().unwrap().to_string_lossy().into_owned();
+    let path = format!("{bin}:{}", std::env::var("PATH").unwrap_or_default());
+    let task = |id: u32, min: u32, step: u32, max: u32| {
+        Command::new("bash")
+            .arg(examples().join("render-array.sbatch"))
+            .args(["s.nff", "parts", "--width", "64", "--height", "64"])
+            .env("PATH", &path)
+            .env("SLURM_ARRAY_TASK_ID", id.to_string())
+            .env("SLURM_ARRAY_TASK_COUNT", "4")
+            .env("SLURM_ARRAY_TASK_MIN", min.to_string())
+            .env("SLURM_ARRAY_TASK_STEP", step.to_string())
+            .env("SLURM_ARRAY_TASK_MAX", max.to_string())
+            .current_dir(d)
+            .output()
+            .unwrap()
+    };
+    // --array=1-7:2, four tasks: tiles 0..3.
+    for id in [1, 3, 5, 7] {
+        ok(&task(id, 1, 2, 7));
+    }
+    ok(&run(
+        NFFMERGE,
+        d,
+        &["parts/part-0.exr", "parts/part-1.exr", "parts/part-2.exr", "parts/part-3.exr", "-o", "m.png"],
+    ));
+    assert_eq!(std::fs::read(d.join("m.png")).unwrap(), full);
+    // --array=1,5,9,20 (four tasks, not one stepped range): refused.
+    let e = err(&task(5, 1, 1, 20));
+    assert!(e.contains("must be one evenly stepped range"), "{e}");
+}
+
+#[test]
+fn the_openjd_template_runs_locally() {
+    let Some(openjd) = program("openjd") else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("s.nff"), SCENE).unwrap();
+    let full = full_render(d, "full.png");
+    let template = examples().join("render-tiles.openjd.yaml");
+    let bin = Path::new(RENDER).parent().unwrap().to_string_lossy().into_owned();
+    let o = Command::new(&openjd)
+        .arg("run")
+        .arg(&template)
+        .args(["--step", "Merge", "--run-dependencies"])
+        .arg("-p")
+        .arg(format!("Scene={}", d.join("s.nff").display()))
+        .arg("-p")
+        .arg(format!("Output={}", d.join("out.png").display()))
+        .arg("-p")
+        .arg(format!("PartsDir={}", d.join("parts").display()))
+        .args(["-p", "Tiles=4", "-p", "RenderOptions=--width 64 --height 64"])
+        .env("PATH", format!("{bin}:{}", std::env::var("PATH").unwrap_or_default()))
+        .current_dir(d)
+        .output()
+        .unwrap();
+    let log = format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert!(o.status.success() && log.contains("Session ended successfully"), "{log}");
+    assert_eq!(std::fs::read_dir(d.join("parts")).unwrap().count(), 4);
+    assert_eq!(std::fs::read(d.join("out.png")).unwrap(), full);
+}
+
+#[test]
+fn the_kubernetes_jobs_are_valid_and_their_command_renders_each_index() {
+    let Some(validate) = program("kubernetes-validate") else { return };
+    let manifests = ["render-tiles.k8s.yaml", "merge-tiles.k8s.yaml"].map(|m| examples().join(m));
+    let o = Command::new(&validate).arg("--strict").args(&manifests).output().unwrap();
+    let log = format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert!(o.status.success() && log.matches("passed").count() == 2, "{log}");
+    // The pods' shell commands, run here with each completion index in a
+    // folder standing for the volume.
+    let python = validate.with_file_name("python");
+    let command = |m: &Path| {
+        let code = "import sys, yaml; c = yaml.safe_load(open(sys.argv[1]))['spec']['template']['spec']['containers'][0]; print(c['args'][0])";
+        let o = Command::new(&python).args(["-c", code]).arg(m).output().unwrap();
+        String::from_utf8(o.stdout).unwrap()
+    };
+    let (tiles, merge) = (command(&manifests[0]), command(&manifests[1]));
+    assert!(tiles.contains("$JOB_COMPLETION_INDEX/16"), "{tiles}");
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // Tall enough for 16 bands of 16 rows.
+    std::fs::write(d.join("scene.nff"), SCENE.replace("resolution 48 40", "resolution 24 256")).unwrap();
+    let bin = Path::new(RENDER).parent().unwrap().to_string_lossy().into_owned();
+    let path = format!("{bin}:{}", std::env::var("PATH").unwrap_or_default());
+    for k in 0..16 {
+        let o = Command::new("sh")
+            .args(["-c", &tiles])
+            .env("JOB_COMPLETION_INDEX", k.to_string())
+            .env("PATH", &path)
+            .current_dir(d)
+            .output()
+            .unwrap();
+        ok(&o);
+    }
+    ok(&Command::new("sh").args(["-c", &merge]).env("PATH", &path).current_dir(d).output().unwrap());
+    ok(&run(RENDER, d, &["scene.nff", "-o", "full.png", "-q"]));
+    assert_eq!(std::fs::read(d.join("render.png")).unwrap(), std::fs::read(d.join("full.png")).unwrap());
+}

@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Every test, with the real programs the farm tests run: GNU parallel
+# (Debian), openjd-cli and kubernetes-validate (PyPI, in a virtual
+# environment under target/test-tools). Installs what is missing, then runs
+# `cargo test --workspace` with NFFKIT_TEST_TOOLS=required, so that a test
+# needing one of them fails instead of skipping. Extra arguments go to cargo.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+if ! command -v parallel >/dev/null; then
+  if [ "$(id -u)" = 0 ]; then
+    apt-get install -y -q parallel >/dev/null 2>&1 ||
+      { apt-get update -q >/dev/null && apt-get install -y -q parallel >/dev/null; }
+  elif command -v sudo >/dev/null; then
+    sudo apt-get install -y -q parallel >/dev/null
+  fi
+fi
+venv=target/test-tools
+if [ ! -x "$venv/bin/openjd" ] || [ ! -x "$venv/bin/kubernetes-validate" ]; then
+  python3 -m venv "$venv"
+  "$venv/bin/pip" install -q --disable-pip-version-check openjd-cli kubernetes-validate
+fi
+export NFFKIT_TEST_TOOLS=required
+export NFFKIT_TEST_VENV=$PWD/$venv
+cargo test --workspace --locked "$@"
