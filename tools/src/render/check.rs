@@ -40,8 +40,9 @@ pub fn check_source(name: &str, src: &[u8], opts: &ParseOptions, warnings: Warni
                 diagnostics.extend(scene_warnings.iter().map(|w| w.render(name)));
                 if !probed {
                     diagnostics += &format!(
-                        "note: the view was not probed for the backs of surfaces ({} primitives, \
-                         more than --check builds a tracer for); `render` probes it\n --> {}\n",
+                        "note: the view was not probed for the backs of surfaces, nor polygons \
+                         checked for overlaps in one plane ({} primitives, more than --check \
+                         takes on); `render` does both\n --> {}\n",
                         parsed.scene.primitives.len(),
                         escape(name)
                     );

@@ -9,6 +9,7 @@
 pub mod args;
 pub mod check;
 pub mod cli;
+pub mod coplanar;
 pub mod part;
 pub mod report;
 pub mod scene_warnings;

@@ -5,7 +5,8 @@
 //! only dialect lights that `--lenient` skipped. A light in the plane of a
 //! flat surface gives it nothing (N·L = 0 all over it). And a view filled
 //! by the backs of opaque surfaces is drawn where the spec's one-sided
-//! rule would see through them (see [`nffkit_tracer::probe`]).
+//! rule would see through them (see [`nffkit_tracer::probe`]). Polygons
+//! overlapping in one plane speckle ([`super::coplanar`]).
 
 use nffkit_formats::nff::escape;
 use nffkit_formats::polygon::newell_normal;
@@ -38,6 +39,8 @@ impl SceneWarning {
 pub fn scene_warnings(scene: &Scene, prepared: Option<&RenderScene>, ambient: bool) -> Vec<SceneWarning> {
     let mut out: Vec<SceneWarning> = unlit(scene, ambient).into_iter().collect();
     out.extend(lights_in_surface_planes(scene));
+    // Costly past a million polygons: with the view, only when prepared.
+    out.extend(prepared.and_then(|_| super::coplanar::coplanar_overlaps(scene)));
     out.extend(prepared.and_then(back_faces_in_view));
     out.extend(prepared.and_then(beyond_precision));
     out

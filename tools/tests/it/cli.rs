@@ -404,13 +404,15 @@ fn repeated_warnings_are_counted_after_the_first_few() {
         err.contains("... and 2995 more like `patch normal of vertex 1 has length 2.0000, not 1`"),
         "{err}"
     );
+    // The patches, all at one place, also overlap in one plane: one more.
+    assert!(err.contains("overlap in one plane (and 4498499 more pairs)"), "{err}");
     let summary = String::from_utf8_lossy(&out.stdout);
-    assert!(summary.contains("3000 warnings"), "{summary}");
+    assert!(summary.contains("3001 warnings"), "{summary}");
     let all = run(RENDER, &["--check", "--all-warnings", f], None);
     assert_eq!(String::from_utf8_lossy(&all.stderr).matches("warning: patch normal").count(), 3000);
     let quiet = run(RENDER, &["--check", "-q", f], None);
     assert!(quiet.stderr.is_empty() && quiet.status.success());
-    assert!(String::from_utf8_lossy(&quiet.stdout).contains("3000 warnings"));
+    assert!(String::from_utf8_lossy(&quiet.stdout).contains("3001 warnings"));
     // A render prints the same summarised warnings, and nothing with -q.
     let png = dir.path().join("p.png");
     let r = run(RENDER, &[f, "-o", png.to_str().unwrap()], None);
