@@ -17,7 +17,15 @@ if ! command -v parallel >/dev/null; then
 fi
 venv=target/test-tools
 if [ ! -x "$venv/bin/openjd" ] || [ ! -x "$venv/bin/kubernetes-validate" ]; then
-  python3 -m venv "$venv"
+  if ! python3 -m venv "$venv" 2>/dev/null; then
+    # Debian keeps venv apart.
+    if [ "$(id -u)" = 0 ]; then
+      apt-get install -y -q python3-venv >/dev/null 2>&1 ||
+        { apt-get update -q >/dev/null && apt-get install -y -q python3-venv >/dev/null; }
+    fi
+    rm -rf "$venv"
+    python3 -m venv "$venv"
+  fi
   "$venv/bin/pip" install -q --disable-pip-version-check openjd-cli kubernetes-validate
 fi
 export NFFKIT_TEST_TOOLS=required
