@@ -192,12 +192,13 @@ fn validated(raw: Gltf, bytes: &[u8], path: &Path, warnings: &mut Vec<String>) -
 /// invalid anyway.
 fn unreadable_accessors(json: &::gltf::json::Root) -> Vec<String> {
     use ::gltf::json::accessor::ComponentType as C;
+    use ::gltf::json::accessor::Type as T;
     use ::gltf::json::mesh::Semantic as S;
     use ::gltf::json::validation::Checked;
     const ANY: &[C] = &[C::I8, C::U8, C::I16, C::U16, C::U32, C::F32];
     let count = json.accessors.len();
     let mut found = Vec::new();
-    let mut check = |at: String, index: usize, allowed: &[C], what: &str| {
+    let mut check = |at: String, index: usize, allowed: &[C], what: &str, shapes: &[T]| {
         let Some(accessor) = json.accessors.get(index) else {
             found.push(format!("{at}: accessor {index} does not exist (the file has {count})"));
             return;
@@ -207,11 +208,23 @@ fn unreadable_accessors(json: &::gltf::json::Root) -> Vec<String> {
                 found.push(format!("{at}: accessor {index} has component type {:?}; {what}", t.0));
             }
         }
+        if let Checked::Valid(t) = &accessor.type_ {
+            if !shapes.is_empty() && !shapes.contains(t) {
+                found.push(format!("{at}: accessor {index} is {t:?}; it must be one of {shapes:?}"));
+            }
+        }
     };
     for (m, mesh) in json.meshes.iter().enumerate() {
         for (p, primitive) in mesh.primitives.iter().enumerate() {
             let at = format!("meshes[{m}].primitives[{p}]");
             for (semantic, index) in &primitive.attributes {
+                let shapes: &[T] = match semantic {
+                    Checked::Valid(S::Positions | S::Normals) => &[T::Vec3],
+                    Checked::Valid(S::Tangents) => &[T::Vec4],
+                    Checked::Valid(S::TexCoords(_)) => &[T::Vec2],
+                    Checked::Valid(S::Colors(_)) => &[T::Vec3, T::Vec4],
+                    _ => &[],
+                };
                 let (name, allowed, what): (String, &[C], &str) = match semantic {
                     Checked::Valid(s @ (S::TexCoords(_) | S::Colors(_))) => {
                         (s.to_string(), &[C::F32, C::U8, C::U16], "it must be F32, U8 or U16")
@@ -224,7 +237,7 @@ fn unreadable_accessors(json: &::gltf::json::Root) -> Vec<String> {
                     Checked::Valid(s) => (s.to_string(), ANY, ""),
                     Checked::Invalid => ("(unknown)".to_string(), ANY, ""),
                 };
-                check(format!("{at}.attributes.{name}"), index.value(), allowed, what);
+                check(format!("{at}.attributes.{name}"), index.value(), allowed, what, shapes);
             }
             if let Some(index) = &primitive.indices {
                 check(
@@ -232,8 +245,24 @@ fn unreadable_accessors(json: &::gltf::json::Root) -> Vec<String> {
                     index.value(),
                     &[C::U8, C::U16, C::U32],
                     "indices must be U8, U16 or U32",
+                    &[T::Scalar],
                 );
             }
+        }
+    }
+    for (i, image) in json.images.iter().enumerate() {
+        match (&image.uri, &image.buffer_view, &image.mime_type) {
+            (Some(_), None, _) | (None, Some(_), Some(_)) => {}
+            (None, Some(_), None) => {
+                found.push(format!("images[{i}]: an image in a bufferView needs a mimeType"))
+            }
+            _ => found.push(format!("images[{i}]: an image needs a uri or a bufferView, and not both")),
+        }
+    }
+    for (i, buffer) in json.buffers.iter().enumerate() {
+        let Some(uri) = buffer.uri.as_deref().filter(|u| !u.starts_with("data:")) else { continue };
+        if std::str::from_utf8(&super::resource::percent_bytes(uri)).is_err() {
+            found.push(format!("buffers[{i}].uri `{uri}` decodes to bytes that are not UTF-8"));
         }
     }
     found

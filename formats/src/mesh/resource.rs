@@ -45,6 +45,11 @@ pub fn resolve(dir: &Path, reference: &str, opts: &ImportOptions) -> Result<Path
 
 /// A URI's percent escapes decoded (`my%20file.png` → `my file.png`).
 pub fn percent_decode(uri: &str) -> String {
+    String::from_utf8_lossy(&percent_bytes(uri)).into_owned()
+}
+
+/// The bytes a percent-encoded URI stands for.
+pub fn percent_bytes(uri: &str) -> Vec<u8> {
     let b = uri.as_bytes();
     let mut out = Vec::with_capacity(b.len());
     let mut i = 0;
@@ -60,7 +65,7 @@ pub fn percent_decode(uri: &str) -> String {
         out.push(b[i]);
         i += 1;
     }
-    String::from_utf8_lossy(&out).into_owned()
+    out
 }
 
 /// The bytes a glTF URI names: a `data:` URI's payload, else the file it

@@ -473,3 +473,21 @@ fn gltf_leniency_where_geometry_is_readable_and_clear_refusals_where_not() {
 fn tri_bytes() -> Vec<u8> {
     TRI.iter().flat_map(|f| f.to_le_bytes()).collect()
 }
+
+#[test]
+fn a_buffer_uri_that_decodes_to_no_text_is_refused_not_a_panic() {
+    // `%FF` decodes to a byte that is not UTF-8; the lossy reading finds
+    // the file named with U+FFFD, gltf's own reading panicked on it.
+    let dir = tempfile::tempdir().unwrap();
+    let pos: Vec<u8> = [0f32, 0., 0., 1., 0., 0., 0., 1., 0.].iter().flat_map(|f| f.to_le_bytes()).collect();
+    std::fs::write(dir.path().join("\u{FFFD}.bin"), &pos).unwrap();
+    let gltf = r#"{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
+        "buffers":[{"byteLength":36,"uri":"%FF.bin"}],"bufferViews":[{"buffer":0,"byteLength":36}],
+        "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],
+        "meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}]}"#;
+    write_file(dir.path(), "t.gltf", gltf);
+    let o = mesh2nff(&["t.gltf", "--no-view"], dir.path(), None);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("buffers[0].uri `%FF.bin` decodes to bytes that are not UTF-8"), "{err}");
+}
