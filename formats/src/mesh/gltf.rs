@@ -72,7 +72,7 @@ pub fn load_bytes(bytes: &[u8], path: &Path, opts: &ImportOptions) -> Result<Mes
         }
     }
     let mut warnings = Vec::new();
-    let gltf = validated(raw, bytes, path, &mut warnings)?;
+    let gltf = validated(raw, bytes, path, opts, &mut warnings)?;
     let base = path.parent();
     check_buffer_files(&gltf.document, base, path, opts)?;
     let buffers = ::gltf::import_buffers(&gltf.document, base, gltf.blob.clone())
@@ -148,10 +148,17 @@ fn is_gltf_1(bytes: &[u8]) -> bool {
 /// geometry become warnings: accessors without `min`/`max` (nothing here
 /// needs them) and required extensions that do not change geometry
 /// (texture transforms, material extensions).
-fn validated(raw: Gltf, bytes: &[u8], path: &Path, warnings: &mut Vec<String>) -> Result<Gltf, MeshError> {
+fn validated(
+    raw: Gltf,
+    bytes: &[u8],
+    path: &Path,
+    opts: &ImportOptions,
+    warnings: &mut Vec<String>,
+) -> Result<Gltf, MeshError> {
     use ::gltf::json::validation::Error as V;
-    // Files gltf would panic on are refused here first.
-    let missing = unreadable_accessors(raw.document.as_json());
+    // Files gltf would panic on, or that would expand past the bounds,
+    // are refused here first.
+    let missing = super::gltf_checks::problems(raw.document.as_json(), opts);
     if !missing.is_empty() {
         return Err(MeshError::invalid(path, format!("invalid glTF: {}", missing.join("; "))));
     }
@@ -182,90 +189,6 @@ fn validated(raw: Gltf, bytes: &[u8], path: &Path, warnings: &mut Vec<String>) -
         ));
     }
     Ok(raw)
-}
-
-/// What gltf would panic on reading, one message each: an attribute or
-/// index list naming an accessor past the last (gltf-json's validation
-/// indexes it unchecked), or of a component type its reader does not
-/// expect (`unreachable!` in gltf's `read_indices`, `read_tex_coords`,
-/// `read_colors`). The spec allows only these types, so such a file is
-/// invalid anyway.
-fn unreadable_accessors(json: &::gltf::json::Root) -> Vec<String> {
-    use ::gltf::json::accessor::ComponentType as C;
-    use ::gltf::json::accessor::Type as T;
-    use ::gltf::json::mesh::Semantic as S;
-    use ::gltf::json::validation::Checked;
-    const ANY: &[C] = &[C::I8, C::U8, C::I16, C::U16, C::U32, C::F32];
-    let count = json.accessors.len();
-    let mut found = Vec::new();
-    let mut check = |at: String, index: usize, allowed: &[C], what: &str, shapes: &[T]| {
-        let Some(accessor) = json.accessors.get(index) else {
-            found.push(format!("{at}: accessor {index} does not exist (the file has {count})"));
-            return;
-        };
-        if let Checked::Valid(t) = &accessor.component_type {
-            if !allowed.contains(&t.0) {
-                found.push(format!("{at}: accessor {index} has component type {:?}; {what}", t.0));
-            }
-        }
-        if let Checked::Valid(t) = &accessor.type_ {
-            if !shapes.is_empty() && !shapes.contains(t) {
-                found.push(format!("{at}: accessor {index} is {t:?}; it must be one of {shapes:?}"));
-            }
-        }
-    };
-    for (m, mesh) in json.meshes.iter().enumerate() {
-        for (p, primitive) in mesh.primitives.iter().enumerate() {
-            let at = format!("meshes[{m}].primitives[{p}]");
-            for (semantic, index) in &primitive.attributes {
-                let shapes: &[T] = match semantic {
-                    Checked::Valid(S::Positions | S::Normals) => &[T::Vec3],
-                    Checked::Valid(S::Tangents) => &[T::Vec4],
-                    Checked::Valid(S::TexCoords(_)) => &[T::Vec2],
-                    Checked::Valid(S::Colors(_)) => &[T::Vec3, T::Vec4],
-                    _ => &[],
-                };
-                let (name, allowed, what): (String, &[C], &str) = match semantic {
-                    Checked::Valid(s @ (S::TexCoords(_) | S::Colors(_))) => {
-                        (s.to_string(), &[C::F32, C::U8, C::U16], "it must be F32, U8 or U16")
-                    }
-                    Checked::Valid(s @ (S::Positions | S::Normals | S::Tangents)) => (
-                        s.to_string(),
-                        &[C::F32],
-                        "it must be F32 (other types need KHR_mesh_quantization, not supported)",
-                    ),
-                    Checked::Valid(s) => (s.to_string(), ANY, ""),
-                    Checked::Invalid => ("(unknown)".to_string(), ANY, ""),
-                };
-                check(format!("{at}.attributes.{name}"), index.value(), allowed, what, shapes);
-            }
-            if let Some(index) = &primitive.indices {
-                check(
-                    format!("{at}.indices"),
-                    index.value(),
-                    &[C::U8, C::U16, C::U32],
-                    "indices must be U8, U16 or U32",
-                    &[T::Scalar],
-                );
-            }
-        }
-    }
-    for (i, image) in json.images.iter().enumerate() {
-        match (&image.uri, &image.buffer_view, &image.mime_type) {
-            (Some(_), None, _) | (None, Some(_), Some(_)) => {}
-            (None, Some(_), None) => {
-                found.push(format!("images[{i}]: an image in a bufferView needs a mimeType"))
-            }
-            _ => found.push(format!("images[{i}]: an image needs a uri or a bufferView, and not both")),
-        }
-    }
-    for (i, buffer) in json.buffers.iter().enumerate() {
-        let Some(uri) = buffer.uri.as_deref().filter(|u| !u.starts_with("data:")) else { continue };
-        if std::str::from_utf8(&super::resource::percent_bytes(uri)).is_err() {
-            found.push(format!("buffers[{i}].uri `{uri}` decodes to bytes that are not UTF-8"));
-        }
-    }
-    found
 }
 
 /// Every external buffer file is inside the model's folder (unless allowed)

@@ -5,6 +5,7 @@
 //! averaged per face, [`texture`]; emission) and its cameras.
 
 pub mod gltf;
+mod gltf_checks;
 pub mod obj;
 pub mod resource;
 pub mod texture;

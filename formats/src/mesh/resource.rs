@@ -16,11 +16,18 @@ pub struct ImportOptions {
     pub textures: bool,
     /// Follow references that leave the model's folder.
     pub allow_outside_paths: bool,
+    /// The most triangles a model may expand to (and three times as many
+    /// elements in any one accessor), checked before anything is read.
+    pub max_triangles: u64,
 }
+
+/// The default bound on a model's triangles: 20 million (an NFF file of
+/// about 3 GB).
+pub const MAX_TRIANGLES: u64 = 20_000_000;
 
 impl Default for ImportOptions {
     fn default() -> Self {
-        ImportOptions { textures: true, allow_outside_paths: false }
+        ImportOptions { textures: true, allow_outside_paths: false, max_triangles: MAX_TRIANGLES }
     }
 }
 

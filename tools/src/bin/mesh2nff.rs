@@ -58,6 +58,12 @@ struct Args {
     /// model's folder (absolute paths, `..`); refused by default.
     #[arg(long)]
     allow_outside_paths: bool,
+    /// The most triangles a model may expand to (instances included),
+    /// checked before anything is read; any one accessor may hold three
+    /// times as many elements.
+    #[arg(long, value_name = "N", default_value_t = nffkit_formats::mesh::resource::MAX_TRIANGLES,
+          value_parser = clap::value_parser!(u64).range(1..))]
+    max_triangles: u64,
     /// The source's up axis (only the view uses it).
     #[arg(long, value_enum, default_value_t = UpArg::Y)]
     up: UpArg,
@@ -103,7 +109,11 @@ fn run(a: &Args) -> Result<()> {
     if let Some(out) = &a.output {
         Outputs::new().inputs([a.model.as_path()]).file("-o", out)?;
     }
-    let import = ImportOptions { textures: !a.no_textures, allow_outside_paths: a.allow_outside_paths };
+    let import = ImportOptions {
+        textures: !a.no_textures,
+        allow_outside_paths: a.allow_outside_paths,
+        max_triangles: a.max_triangles,
+    };
     let mesh = if a.model.as_os_str() == "-" {
         let bytes = nffkit_tools::input::read_stream(
             &mut std::io::stdin().lock(),

@@ -491,3 +491,65 @@ fn a_buffer_uri_that_decodes_to_no_text_is_refused_not_a_panic() {
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(err.contains("buffers[0].uri `%FF.bin` decodes to bytes that are not UTF-8"), "{err}");
 }
+
+#[test]
+fn gltf_graphs_and_counts_that_would_explode_are_refused_before_expanding() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |name: &str, json: &str, args: &[&str]| {
+        write_file(dir.path(), name, json);
+        let t = std::time::Instant::now();
+        let o = mesh2nff(&[&[name, "--no-view"][..], args].concat(), dir.path(), None);
+        assert!(t.elapsed().as_secs() < 10, "{name} took {:?}", t.elapsed());
+        (o.status.code(), String::from_utf8_lossy(&o.stderr).into_owned())
+    };
+    // 40 nodes, each listing the next twice: 2^40 instances.
+    let twice: Vec<String> = (0..40)
+        .map(|i| {
+            if i < 39 {
+                format!(r#"{{"mesh":0,"children":[{},{}]}}"#, i + 1, i + 1)
+            } else {
+                r#"{"mesh":0}"#.into()
+            }
+        })
+        .collect();
+    let (code, err) =
+        run("twice.gltf", &gltf_json(&TRI, None, "", 4, &format!("[{}]", twice.join(",")), None), &[]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("nodes[1] is a child of nodes[0] and of nodes[0]; the spec allows one parent"),
+        "{err}"
+    );
+    // 40 levels of two distinct nodes, both parents of the next pair.
+    let pairs: Vec<String> = (0..80)
+        .map(|i| {
+            let next = (i / 2 + 1) * 2;
+            if next < 80 {
+                format!(r#"{{"mesh":0,"children":[{next},{}]}}"#, next + 1)
+            } else {
+                r#"{"mesh":0}"#.into()
+            }
+        })
+        .collect();
+    let (code, err) =
+        run("pairs.gltf", &gltf_json(&TRI, None, "", 4, &format!("[{}]", pairs.join(",")), None), &[]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("nodes[2] is a child of nodes[0] and of nodes[1]"), "{err}");
+    // A sparse accessor of two billion elements and no bufferView.
+    let huge = gltf_json(&TRI, None, "", 4, "", None).replace(r#""count":3"#, r#""count":2000000000"#);
+    let (code, err) = run("sparse.gltf", &huge, &[]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("accessors[0] has 2000000000 elements, more than the 60000000"), "{err}");
+    // A hundred instances of a triangle, under a bound of fifty.
+    let many: Vec<String> = (0..100).map(|_| r#"{"mesh":0}"#.to_string()).collect();
+    let roots: Vec<String> = (0..100).map(|i| i.to_string()).collect();
+    let flat = gltf_json(&TRI, None, "", 4, &format!("[{}]", many.join(",")), None)
+        .replace(r#""scenes":[{"nodes":[0]}]"#, &format!(r#""scenes":[{{"nodes":[{}]}}]"#, roots.join(",")));
+    let (code, err) = run("many.gltf", &flat, &["--max-triangles", "50"]);
+    assert!(
+        err.contains("the model has up to 300 triangles, more than 50 (--max-triangles raises the bound)"),
+        "{err}"
+    );
+    assert_eq!(code, Some(1));
+    let (code, err) = run("many.gltf", &flat, &[]);
+    assert_eq!(code, Some(0), "{err}");
+}
