@@ -40,14 +40,48 @@ fn stays_inside(reference: &str) -> bool {
         || reference.split(['/', '\\']).any(|c| c == ".."))
 }
 
-/// `reference` (a plain path) resolved against `dir`, or why it may not be read.
+/// The largest file a model may reference (a buffer, an image, a material
+/// library).
+pub const MAX_REFERENCED_BYTES: u64 = 2 << 30;
+
+/// `reference` (a plain path) resolved against `dir`, or why it may not be
+/// read. Checked as text first (no absolute path, no `..`), then, when it
+/// exists, where it really is: every link followed, it must still lie in
+/// `dir` (a link inside the folder may point anywhere), be a regular file
+/// (not a device or a pipe: `/dev/zero` behind a link) and hold at most
+/// [`MAX_REFERENCED_BYTES`]. `--allow-outside-paths` lifts the folder rule,
+/// not the others. A reference to nothing is returned as joined, for the
+/// read to say it is missing.
 pub fn resolve(dir: &Path, reference: &str, opts: &ImportOptions) -> Result<PathBuf, String> {
     if !opts.allow_outside_paths && !stays_inside(reference) {
         return Err(format!(
             "`{reference}` leaves the model's folder; not read (--allow-outside-paths allows it)"
         ));
     }
-    Ok(dir.join(reference))
+    let dir = if dir.as_os_str().is_empty() { Path::new(".") } else { dir };
+    let joined = dir.join(reference);
+    let Ok(real) = std::fs::canonicalize(&joined) else { return Ok(joined) };
+    if !opts.allow_outside_paths {
+        let root = std::fs::canonicalize(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        if !real.starts_with(&root) {
+            return Err(format!(
+                "`{reference}` leads out of the model's folder through a link (to {}); not read \
+                 (--allow-outside-paths allows it)",
+                real.display()
+            ));
+        }
+    }
+    let meta = std::fs::metadata(&real).map_err(|e| format!("{}: {e}", real.display()))?;
+    if !meta.is_file() {
+        return Err(format!("`{reference}` is not a regular file ({}); not read", real.display()));
+    }
+    if meta.len() > MAX_REFERENCED_BYTES {
+        return Err(format!(
+            "`{reference}` holds {} bytes, more than the {MAX_REFERENCED_BYTES} a referenced file may",
+            meta.len()
+        ));
+    }
+    Ok(real)
 }
 
 /// A URI's percent escapes decoded (`my%20file.png` → `my file.png`).
@@ -112,6 +146,38 @@ mod tests {
         assert_eq!(resolve(dir, "tex/a.png", &strict).unwrap(), dir.join("tex/a.png"));
         let open = ImportOptions { allow_outside_paths: true, ..strict };
         assert_eq!(resolve(dir, "../b.png", &open).unwrap(), dir.join("../b.png"));
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn links_are_followed_before_the_folder_rule_is_applied() {
+        use std::os::unix::fs::symlink;
+        let root = tempfile::tempdir().unwrap();
+        let (model, outside) = (root.path().join("model"), root.path().join("outside"));
+        std::fs::create_dir_all(model.join("real")).unwrap();
+        std::fs::create_dir_all(&outside).unwrap();
+        std::fs::write(outside.join("secret.bin"), b"secret").unwrap();
+        std::fs::write(model.join("real/inside.bin"), b"ok").unwrap();
+        symlink(outside.join("secret.bin"), model.join("inside.bin")).unwrap();
+        symlink(&outside, model.join("sub")).unwrap();
+        symlink("/dev/zero", model.join("zero.mtl")).unwrap();
+        symlink(model.join("real/inside.bin"), model.join("alias.bin")).unwrap();
+        let strict = ImportOptions::default();
+        for (reference, says) in [
+            ("inside.bin", "leads out of the model's folder through a link"),
+            ("sub/secret.bin", "leads out of the model's folder through a link"),
+            ("zero.mtl", "leads out of the model's folder through a link (to /dev/zero)"),
+            ("real", "is not a regular file"),
+        ] {
+            let e = resolve(&model, reference, &strict).unwrap_err();
+            assert!(e.contains(says), "{reference}: {e}");
+        }
+        // A link that stays inside is fine; outside paths may be allowed.
+        assert!(resolve(&model, "alias.bin", &strict).is_ok());
+        let open = ImportOptions { allow_outside_paths: true, ..strict };
+        assert!(resolve(&model, "inside.bin", &open).is_ok());
+        assert!(resolve(&model, "zero.mtl", &open).is_err());
+        assert!(read_uri(&model, "sub/secret.bin", &strict).is_err());
     }
 
     #[test]

@@ -553,3 +553,35 @@ fn gltf_graphs_and_counts_that_would_explode_are_refused_before_expanding() {
     let (code, err) = run("many.gltf", &flat, &[]);
     assert_eq!(code, Some(0), "{err}");
 }
+
+#[cfg(unix)]
+#[test]
+fn references_through_links_out_of_the_folder_are_not_read() {
+    use std::os::unix::fs::symlink;
+    let root = tempfile::tempdir().unwrap();
+    let (model, outside) = (root.path().join("model"), root.path().join("outside"));
+    std::fs::create_dir_all(&model).unwrap();
+    std::fs::create_dir_all(&outside).unwrap();
+    std::fs::write(outside.join("secret.bin"), tri_bytes()).unwrap();
+    symlink(outside.join("secret.bin"), model.join("inside.bin")).unwrap();
+    symlink(&outside, model.join("sub")).unwrap();
+    let with_uri = |uri: &str| {
+        gltf_json(&TRI, None, "", 4, "", None)
+            .replace(&format!("data:application/octet-stream;base64,{}", base64(&tri_bytes())), uri)
+    };
+    for (name, uri) in [("a.gltf", "inside.bin"), ("b.gltf", "sub/secret.bin")] {
+        write_file(&model, name, &with_uri(uri));
+        let o = mesh2nff(&[name, "--no-view"], &model, None);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{name}: {err}");
+        assert!(err.contains("leads out of the model's folder through a link"), "{name}: {err}");
+    }
+    // An MTL library behind a link to the outside: not read (a warning).
+    std::fs::write(outside.join("lib.mtl"), "newmtl red\nKd 1 0 0\n").unwrap();
+    symlink(outside.join("lib.mtl"), model.join("lib.mtl")).unwrap();
+    write_file(&model, "m.obj", "mtllib lib.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n");
+    let o = mesh2nff(&["m.obj", "--no-view"], &model, None);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("leads out of the model's folder through a link"), "{err}");
+    assert!(!String::from_utf8_lossy(&o.stdout).contains("f 1 0 0"), "the outside red was read");
+}
