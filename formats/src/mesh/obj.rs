@@ -60,16 +60,41 @@ fn colored_vertex(words: &[&str]) -> Option<([u64; 3], DVec3)> {
 /// name, from Blender), with a warning each, and the `l` (polyline) and `p`
 /// (point) elements, which tobj would read as faces and NFF cannot show,
 /// with one warning counting them. Vertex colours are taken out into
-/// `colors` (tobj misnumbers them when only some vertices have one). Lines
-/// stay in place (as blanks) so line numbers in later messages are the file's.
-fn sanitize(text: &str, warnings: &mut Vec<String>, colors: &mut VertexColors) -> String {
+/// `colors` (tobj misnumbers them when only some vertices have one). A
+/// line ending in `\` goes on on the next; a comment may follow data on a
+/// line; a vertex's fourth number (w, for rational curves) is dropped, as
+/// tinyobjloader and assimp do for polygons. Whether each face (of three
+/// corners or more, in file order) names normals goes to `face_normals`:
+/// tobj gives a face without them another face's. Lines stay in place (as
+/// blanks) so line numbers in later messages are the file's.
+fn sanitize(
+    text: &str,
+    warnings: &mut Vec<String>,
+    colors: &mut VertexColors,
+    face_normals: &mut Vec<bool>,
+) -> String {
     let mut out = String::with_capacity(text.len());
     let (mut lines, mut points) = (0, 0);
-    for (i, line) in text.lines().enumerate() {
-        let mut words = line.split_whitespace();
-        match words.next() {
+    let raw: Vec<&str> = text.lines().collect();
+    let mut i = 0;
+    while i < raw.len() {
+        let start = i;
+        let mut line = std::borrow::Cow::Borrowed(raw[i]);
+        while line.trim_end().ends_with('\\') && i + 1 < raw.len() {
+            let kept = line.trim_end().trim_end_matches('\\').to_string();
+            i += 1;
+            line = std::borrow::Cow::Owned(format!("{kept} {}", raw[i]));
+        }
+        let keyword = line.split_whitespace().next().map(str::to_string);
+        let keyword = keyword.as_deref();
+        let data = matches!(keyword, Some("v" | "vt" | "vn" | "f" | "l" | "p"));
+        if let (true, Some(hash)) = (data, line.find('#')) {
+            line = std::borrow::Cow::Owned(line[..hash].to_string());
+        }
+        let mut words = line.split_whitespace().skip(1);
+        match keyword {
             Some("usemtl") if words.next().is_none() => {
-                warnings.push(format!("line {}: `usemtl` without a name ignored", i + 1));
+                warnings.push(format!("line {}: `usemtl` without a name ignored", start + 1));
             }
             Some("l") => lines += 1,
             Some("p") => points += 1,
@@ -80,12 +105,27 @@ fn sanitize(text: &str, warnings: &mut Vec<String>, colors: &mut VertexColors) -
                         colors.entry(key).or_insert(color);
                         out.push_str(&format!("v {} {} {}", rest[0], rest[1], rest[2]));
                     }
-                    None => out.push_str(line),
+                    None if rest.len() == 4 => {
+                        out.push_str(&format!("v {} {} {}", rest[0], rest[1], rest[2]))
+                    }
+                    None => out.push_str(&line),
                 }
             }
-            _ => out.push_str(line),
+            Some("f") => {
+                let corners: Vec<&str> = words.collect();
+                if corners.len() >= 3 {
+                    face_normals
+                        .push(corners.iter().all(|c| c.split('/').nth(2).is_some_and(|n| !n.is_empty())));
+                }
+                out.push_str(&line);
+            }
+            _ => out.push_str(&line),
         }
         out.push('\n');
+        for _ in start..i {
+            out.push('\n');
+        }
+        i += 1;
     }
     if lines + points > 0 {
         warnings.push(format!(
@@ -166,7 +206,8 @@ pub fn load_bytes(bytes: &[u8], name: &Path, dir: &Path, opts: &ImportOptions) -
     }
     let mut warnings = Vec::new();
     let mut colors = VertexColors::new();
-    let text = sanitize(&String::from_utf8_lossy(bytes), &mut warnings, &mut colors);
+    let mut face_normals = Vec::new();
+    let text = sanitize(&String::from_utf8_lossy(bytes), &mut warnings, &mut colors, &mut face_normals);
     let mtl_warning = std::cell::RefCell::new(Vec::<String>::new());
     // Textures are named relative to their library's folder.
     let mtl_dir = std::cell::RefCell::new(dir.to_path_buf());
@@ -218,8 +259,13 @@ pub fn load_bytes(bytes: &[u8], name: &Path, dir: &Path, opts: &ImportOptions) -
     {
         mesh.warnings.push("textures are ignored (--no-textures)".into());
     }
+    // tobj keeps faces in file order, model after model; if its count of
+    // faces differs, the flags cannot be matched and every face keeps what
+    // tobj gave it.
+    let faces: usize = models.iter().map(|m| face_count(&m.mesh)).sum();
+    let mut face_normals = (faces == face_normals.len()).then_some(face_normals.into_iter());
     for model in &models {
-        add_model(&mut mesh, &model.mesh, &model.name, &looks, &colors);
+        add_model(&mut mesh, &model.mesh, &model.name, &looks, &colors, face_normals.as_mut());
     }
     Ok(mesh)
 }
@@ -297,7 +343,23 @@ fn describe(text: &str, e: tobj::LoadError) -> String {
     }
 }
 
-fn add_model(mesh: &mut Mesh, m: &tobj::Mesh, name: &str, looks: &[Look], colors: &VertexColors) {
+/// How many faces of three corners or more tobj read into `m`.
+fn face_count(m: &tobj::Mesh) -> usize {
+    if m.face_arities.is_empty() {
+        m.indices.len() / 3
+    } else {
+        m.face_arities.iter().filter(|&&n| n >= 3).count()
+    }
+}
+
+fn add_model(
+    mesh: &mut Mesh,
+    m: &tobj::Mesh,
+    name: &str,
+    looks: &[Look],
+    colors: &VertexColors,
+    mut face_normals: Option<&mut std::vec::IntoIter<bool>>,
+) {
     let base = mesh.positions.len() as u32;
     mesh.positions.extend(m.positions.chunks_exact(3).map(|p| DVec3::new(p[0], p[1], p[2])));
     let has_normals = !m.normal_indices.is_empty() && m.normal_indices.len() == m.indices.len();
@@ -327,8 +389,10 @@ fn add_model(mesh: &mut Mesh, m: &tobj::Mesh, name: &str, looks: &[Look], colors
     let mut k = 0usize;
     for n in arities {
         let first = mesh.corners.len() as u32;
+        // A face the file gave no normals gets none (its geometric normal).
+        let named = n < 3 || face_normals.as_mut().and_then(|f| f.next()).unwrap_or(true);
         for j in k..k + n as usize {
-            let normal = has_normals.then(|| {
+            let normal = (has_normals && named).then(|| {
                 let i = m.normal_indices[j] as usize * 3;
                 DVec3::new(m.normals[i], m.normals[i + 1], m.normals[i + 2])
             });

@@ -131,7 +131,7 @@ struct Placement {
 
 impl Placement {
     fn of(mesh: &Mesh, o: &Options) -> Placement {
-        let used = bounds(mesh.corners.iter().map(|c| mesh.positions[c.position as usize]));
+        let used = bounds(written_corners(mesh).map(|p| mesh.positions[p as usize]));
         let shift = if o.center || o.fit { (used.0 + used.1) * 0.5 } else { DVec3::ZERO };
         let fit = if o.fit { 1.0 / (used.1 - used.0).max_element().max(f64::MIN_POSITIVE) } else { 1.0 };
         Placement { shift, scale: o.scale * fit }
@@ -184,6 +184,22 @@ fn planar_convex(v: &[DVec3]) -> bool {
     })
 }
 
+/// The positions of the corners of faces with area, the ones written: a
+/// stray degenerate face (`f 4 4 4` far away) must not move the framing.
+/// (A uniform scale, shift or fit never gives a face area or takes it
+/// away, so the source positions decide.)
+fn written_corners(mesh: &Mesh) -> impl Iterator<Item = u32> + '_ {
+    let mut verts = Vec::new();
+    mesh.faces
+        .iter()
+        .filter(move |f| {
+            verts.clear();
+            verts.extend(mesh.corners_of(f).iter().map(|c| mesh.positions[c.position as usize]));
+            newell_normal(&verts).length_squared() > 0.0
+        })
+        .flat_map(|f| mesh.corners_of(f).iter().map(|c| c.position))
+}
+
 /// The framing view for the output bounds, from the default direction.
 pub fn framing_view(b: (DVec3, DVec3), o: &Options) -> (View, Vec<Light>) {
     view::framing(b, o, view::default_direction(o.up))
@@ -211,7 +227,7 @@ pub fn write<W: Write>(mesh: &Mesh, o: &Options, out: W) -> Result<(W, Summary)>
     check(mesh)?;
     let place = Placement::of(mesh, o);
     let pos = place.positions(mesh);
-    let b = bounds(mesh.corners.iter().map(|c| pos[c.position as usize]));
+    let b = bounds(written_corners(mesh).map(|p| pos[p as usize]));
     let mut summary = Summary { bounds: b, ..Default::default() };
     let mut body = NffWriter::new(Vec::new());
     write_faces(mesh, o, &pos, &mut body, &mut summary)?;

@@ -585,3 +585,35 @@ fn references_through_links_out_of_the_folder_are_not_read() {
     assert!(err.contains("leads out of the model's folder through a link"), "{err}");
     assert!(!String::from_utf8_lossy(&o.stdout).contains("f 1 0 0"), "the outside red was read");
 }
+
+#[test]
+fn obj_is_read_as_the_format_means() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let out = |name: &str, text: &str, args: &[&str]| {
+        write_file(d, name, text);
+        let o = mesh2nff(&[&[name][..], args].concat(), d, None);
+        assert!(o.status.success(), "{name}: {}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    // A face without normals after one with: its own (geometric) normal,
+    // not the other face's `1 0 0`.
+    let nff = out(
+        "mixed.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvn 1 0 0\nf 1//1 2//1 4//1\nf 1 2 3\n",
+        &["--no-view"],
+    );
+    assert!(nff.contains("pp 3") && nff.contains("\np 3\n0 0 0\n1 0 0\n0 1 0\n"), "{nff}");
+    // w is ignored (0 was refused, 2 halved the vertex).
+    let nff = out("w.obj", "v 0 0 0 1\nv 1 0 0 0\nv 0 2 0 2\nf 1 2 3\n", &["--no-view"]);
+    assert!(nff.contains("p 3\n0 0 0\n1 0 0\n0 2 0\n"), "{nff}");
+    // A continued line and comments after data.
+    let nff =
+        out("cont.obj", "v 0 0 0 # origin\nv 1 0 \\\n 0\nv 0 1 0\nf 1 2 3 # the face\n", &["--no-view"]);
+    assert!(nff.contains("p 3\n0 0 0\n1 0 0\n0 1 0\n"), "{nff}");
+    // A degenerate face far away does not move the framing.
+    let nff = out("stray.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1000000 0 0\nf 1 2 3\nf 4 4 4\n", &[]);
+    let at = nff.lines().find(|l| l.starts_with("at ")).unwrap();
+    let x: f64 = at.split_whitespace().nth(1).unwrap().parse().unwrap();
+    assert!(x.abs() < 1.0, "{at}");
+}
