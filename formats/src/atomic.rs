@@ -113,7 +113,7 @@ mod tests {
         .unwrap_err();
         assert!(err.to_string().contains("out.txt"), "{err}");
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
-        assert!(pending().is_empty());
+        assert!(pending().iter().all(|p| !p.starts_with(dir.path())));
         write_bytes(&path, b"whole").unwrap();
         assert_eq!(std::fs::read(&path).unwrap(), b"whole");
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);

@@ -55,9 +55,24 @@ pub fn load(path: &Path, opts: &ImportOptions) -> Result<Mesh, MeshError> {
 /// Import glTF or GLB bytes read from `path` (which names the file in
 /// messages; the files it refers to are looked for beside it).
 pub fn load_bytes(bytes: &[u8], path: &Path, opts: &ImportOptions) -> Result<Mesh, MeshError> {
+    // gltf-json 1.4.1 cannot read an animation channel without a node
+    // (KHR_animation_pointer); animations are not converted anyway.
+    if let Err(e) = Gltf::from_slice_without_validation(bytes) {
+        if e.to_string().contains("missing field `node`") {
+            if let Some(stripped) = without_animations(bytes) {
+                let mut mesh = load_bytes(&stripped, path, opts)?;
+                mesh.warnings.push("animations skipped (NFF has none; some target no node)".into());
+                return Ok(mesh);
+            }
+        }
+    }
     let raw = Gltf::from_slice_without_validation(bytes).map_err(|e| {
         let why = if is_gltf_1(bytes) {
             "glTF 1.0 is not supported (only glTF 2.0; convert it first)".to_string()
+        } else if e.to_string().contains("missing field `nodes`") {
+            // Valid glTF (a scene's nodes are optional), which gltf-json
+            // 1.4.1 cannot read; it has nothing to convert either way.
+            "the scene has no nodes: nothing to convert".to_string()
         } else {
             format!("not a readable glTF file: {e}")
         };
@@ -129,6 +144,44 @@ pub fn load_bytes(bytes: &[u8], path: &Path, opts: &ImportOptions) -> Result<Mes
         ));
     }
     Ok(mesh)
+}
+
+/// The file without its `animations` (JSON, or a GLB rebuilt around its
+/// new JSON chunk); `None` when its JSON cannot be read or has none.
+fn without_animations(bytes: &[u8]) -> Option<Vec<u8>> {
+    let strip = |json: &[u8]| -> Option<Vec<u8>> {
+        let mut v: serde_json::Value = serde_json::from_slice(json).ok()?;
+        v.as_object_mut()?.remove("animations")?;
+        serde_json::to_vec(&v).ok()
+    };
+    if !bytes.starts_with(b"glTF") {
+        return strip(bytes);
+    }
+    let glb = ::gltf::Glb::from_slice(bytes).ok()?;
+    let mut json = strip(&glb.json)?;
+    while json.len() % 4 != 0 {
+        json.push(b' ');
+    }
+    let mut bin = glb.bin.map(|b| b.into_owned());
+    if let Some(b) = &mut bin {
+        while b.len() % 4 != 0 {
+            b.push(0);
+        }
+    }
+    let length = 12 + 8 + json.len() + bin.as_ref().map_or(0, |b| 8 + b.len());
+    let mut out = Vec::with_capacity(length);
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&u32::try_from(length).ok()?.to_le_bytes());
+    out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&json);
+    if let Some(b) = bin {
+        out.extend_from_slice(&(b.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"BIN\0");
+        out.extend_from_slice(&b);
+    }
+    Some(out)
 }
 
 /// Whether the bytes are a glTF 1.0 file: a GLB of version 1, or JSON whose
@@ -239,7 +292,16 @@ impl Images<'_> {
         if let Some(done) = &self.decoded[texture.index()] {
             return done.clone();
         }
-        let image = texture.source();
+        let Some(image) = texture.source() else {
+            // Only in an extension's form (KHR_texture_basisu, EXT_texture_webp).
+            warnings.push(format!(
+                "texture {} has its image only in an extension's format, which mesh2nff cannot decode; \
+                 using the factor alone",
+                texture.index()
+            ));
+            self.decoded[texture.index()] = Some(None);
+            return None;
+        };
         // Bytes in a GLB chunk or buffer are borrowed; only files and data
         // URIs are read into a new vector.
         let (name, bytes): (String, Result<Cow<[u8]>, String>) = match image.source() {

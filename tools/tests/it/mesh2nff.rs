@@ -617,3 +617,38 @@ fn obj_is_read_as_the_format_means() {
     let x: f64 = at.split_whitespace().nth(1).unwrap().parse().unwrap();
     assert!(x.abs() < 1.0, "{at}");
 }
+
+#[test]
+fn gltf_is_read_as_the_spec_allows() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |name: &str, json: &str| {
+        write_file(dir.path(), name, json);
+        let o = mesh2nff(&[name, "--no-view"], dir.path(), None);
+        (o.status.code(), String::from_utf8_lossy(&o.stderr).into_owned())
+    };
+    let plain = gltf_json(&TRI, None, "", 4, "", None);
+    let attrs = r#""attributes":{"POSITION":0}"#;
+    // An application-specific attribute: valid, ignored.
+    let (code, err) =
+        run("custom.gltf", &plain.replace(attrs, r#""attributes":{"POSITION":0,"_FEATURE_ID_0":0}"#));
+    assert_eq!(code, Some(0), "{err}");
+    // A texture only in KHR_texture_basisu form: the factor alone, said.
+    let basisu = r#""extensionsUsed":["KHR_texture_basisu"],"extensionsRequired":["KHR_texture_basisu"],
+        "images":[{"uri":"t.ktx2","mimeType":"image/ktx2"}],"textures":[{"extensions":{"KHR_texture_basisu":{"source":0}}}],
+        "materials":[{"pbrMetallicRoughness":{"baseColorFactor":[1,0,0,1],"baseColorTexture":{"index":0}}}],"#;
+    let json = gltf_json(&TRI, None, basisu, 4, "", None).replace(attrs, &format!("{attrs},\"material\":0"));
+    let (code, err) = run("basisu.gltf", &json);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(err.contains("texture 0 has its image only in an extension's format"), "{err}");
+    // An animation channel without a node (KHR_animation_pointer).
+    let anim = r#""extensionsUsed":["KHR_animation_pointer"],"animations":[{"channels":[{"sampler":0,
+        "target":{"path":"pointer","extensions":{"KHR_animation_pointer":{"pointer":"/nodes/0/scale"}}}}],
+        "samplers":[{"input":0,"output":0}]}],"#;
+    let (code, err) = run("anim.gltf", &gltf_json(&TRI, None, anim, 4, "", None));
+    assert_eq!(code, Some(0), "{err}");
+    assert!(err.contains("animations skipped"), "{err}");
+    // A scene without nodes.
+    let (code, err) = run("empty.gltf", &plain.replace(r#""scenes":[{"nodes":[0]}]"#, r#""scenes":[{}]"#));
+    assert_eq!(code, Some(1));
+    assert!(err.contains("the scene has no nodes"), "{err}");
+}
