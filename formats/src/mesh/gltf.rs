@@ -103,6 +103,8 @@ pub fn load_bytes(bytes: &[u8], path: &Path, opts: &ImportOptions) -> Result<Mes
         buffers: &buffers,
         opts,
         decoded: vec![None; doc.textures().count()],
+        images: vec![None; doc.images().count()],
+        total: 0,
     };
     let mut looks = vec![Look::default_material()];
     for m in doc.materials() {
@@ -281,6 +283,11 @@ struct Images<'a> {
     opts: &'a ImportOptions,
     /// Per texture: not yet tried, or the outcome.
     decoded: Vec<Option<Option<Rc<Texture>>>>,
+    /// Per image: not yet tried, or the outcome (the decoded texels, which
+    /// every texture of the image shares, or why not).
+    images: Vec<Option<Result<Texture, String>>>,
+    /// Bytes of texels decoded so far, at most `opts.max_texture_bytes`.
+    total: u64,
 }
 
 impl Images<'_> {
@@ -302,29 +309,8 @@ impl Images<'_> {
             self.decoded[texture.index()] = Some(None);
             return None;
         };
-        // Bytes in a GLB chunk or buffer are borrowed; only files and data
-        // URIs are read into a new vector.
-        let (name, bytes): (String, Result<Cow<[u8]>, String>) = match image.source() {
-            ::gltf::image::Source::View { view, .. } => {
-                let bytes = self.buffers.get(view.buffer().index()).and_then(|b| {
-                    b.0.get(view.offset()..view.offset().checked_add(view.length())?).map(Cow::Borrowed)
-                });
-                (
-                    format!("image {} (buffer view {})", image.index(), view.index()),
-                    bytes.ok_or_else(|| "the buffer view lies outside its buffer".to_string()),
-                )
-            }
-            ::gltf::image::Source::Uri { uri, .. } => {
-                let shown =
-                    if uri.starts_with("data:") { "a data: URI".to_string() } else { format!("`{uri}`") };
-                (
-                    format!("image {} ({shown})", image.index()),
-                    read_uri(self.dir, uri, self.opts).map(Cow::Owned),
-                )
-            }
-        };
-        let decoded = bytes
-            .and_then(|b| Texture::decode(&b))
+        let (name, decoded) = self.image(&image);
+        let decoded = decoded
             .map(|mut t| {
                 let sampler = texture.sampler();
                 t.wrap = [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())];
@@ -334,6 +320,45 @@ impl Images<'_> {
             .ok();
         self.decoded[texture.index()] = Some(decoded.clone());
         decoded
+    }
+
+    /// The image's name for messages and its texels (shared), decoded on
+    /// first use within the total bound.
+    fn image(&mut self, image: &::gltf::Image) -> (String, Result<Texture, String>) {
+        let name = match image.source() {
+            ::gltf::image::Source::View { view, .. } => {
+                format!("image {} (buffer view {})", image.index(), view.index())
+            }
+            ::gltf::image::Source::Uri { uri, .. } if uri.starts_with("data:") => {
+                format!("image {} (a data: URI)", image.index())
+            }
+            ::gltf::image::Source::Uri { uri, .. } => format!("image {} (`{uri}`)", image.index()),
+        };
+        if let Some(done) = &self.images[image.index()] {
+            return (name, done.clone());
+        }
+        // Bytes in a GLB chunk or buffer are borrowed; only files and data
+        // URIs are read into a new vector.
+        let bytes: Result<Cow<[u8]>, String> = match image.source() {
+            ::gltf::image::Source::View { view, .. } => self
+                .buffers
+                .get(view.buffer().index())
+                .and_then(|b| b.0.get(view.offset()..view.offset().checked_add(view.length())?))
+                .map(Cow::Borrowed)
+                .ok_or_else(|| "the buffer view lies outside its buffer".to_string()),
+            ::gltf::image::Source::Uri { uri, .. } => read_uri(self.dir, uri, self.opts).map(Cow::Owned),
+        };
+        let max = self.opts.max_texture_bytes;
+        let decoded = bytes.and_then(|b| Texture::decode(&b)).and_then(|t| {
+            if self.total + t.bytes() > max {
+                Err(format!("decoding it would take the textures past {max} bytes in all"))
+            } else {
+                self.total += t.bytes();
+                Ok(t)
+            }
+        });
+        self.images[image.index()] = Some(decoded.clone());
+        (name, decoded)
     }
 }
 

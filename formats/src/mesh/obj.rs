@@ -244,7 +244,7 @@ pub fn load_bytes(bytes: &[u8], name: &Path, dir: &Path, opts: &ImportOptions) -
     let materials = materials.unwrap_or_default();
     let mut mesh = Mesh { materials: vec![Material::default()], warnings, ..Default::default() };
     mesh.materials.extend(materials.iter().map(convert_material));
-    let mut textures = Textures { dir: mtl_dir.into_inner(), opts, cache: HashMap::new() };
+    let mut textures = Textures { dir: mtl_dir.into_inner(), opts, cache: HashMap::new(), total: 0 };
     let plain = Look { color: Material::default().color, ..Look::default() };
     let looks: Vec<Look> = std::iter::once(plain)
         .chain(
@@ -275,6 +275,8 @@ struct Textures<'a> {
     dir: PathBuf,
     opts: &'a ImportOptions,
     cache: HashMap<String, Option<std::rc::Rc<Texture>>>,
+    /// Bytes of texels decoded so far, at most `opts.max_texture_bytes`.
+    total: u64,
 }
 
 impl Textures<'_> {
@@ -298,7 +300,16 @@ impl Textures<'_> {
         let loaded = resolve(&self.dir, name, self.opts)
             .and_then(|p| {
                 let bytes = std::fs::read(&p).map_err(|e| format!("{}: {e}", p.display()))?;
-                Texture::decode(&bytes).map_err(|e| format!("{}: {e}", p.display()))
+                let t = Texture::decode(&bytes).map_err(|e| format!("{}: {e}", p.display()))?;
+                let max = self.opts.max_texture_bytes;
+                if self.total + t.bytes() > max {
+                    return Err(format!(
+                        "{}: decoding it would take the textures past {max} bytes in all",
+                        p.display()
+                    ));
+                }
+                self.total += t.bytes();
+                Ok(t)
             })
             .map_err(|why| warnings.push(format!("texture {why}; using the material colour alone")))
             .ok()

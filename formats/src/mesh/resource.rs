@@ -19,7 +19,12 @@ pub struct ImportOptions {
     /// The most triangles a model may expand to (and three times as many
     /// elements in any one accessor), checked before anything is read.
     pub max_triangles: u64,
+    /// The most memory the decoded textures may take in all.
+    pub max_texture_bytes: u64,
 }
+
+/// The default bound on the decoded textures' memory: 1 GiB.
+pub const MAX_TEXTURE_BYTES: u64 = 1 << 30;
 
 /// The default bound on a model's triangles: 20 million (an NFF file of
 /// about 3 GB).
@@ -27,7 +32,12 @@ pub const MAX_TRIANGLES: u64 = 20_000_000;
 
 impl Default for ImportOptions {
     fn default() -> Self {
-        ImportOptions { textures: true, allow_outside_paths: false, max_triangles: MAX_TRIANGLES }
+        ImportOptions {
+            textures: true,
+            allow_outside_paths: false,
+            max_triangles: MAX_TRIANGLES,
+            max_texture_bytes: MAX_TEXTURE_BYTES,
+        }
     }
 }
 

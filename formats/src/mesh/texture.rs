@@ -43,7 +43,9 @@ pub enum Wrap {
 pub struct Texture {
     width: u32,
     height: u32,
-    rgb: Vec<[u8; 3]>,
+    /// Shared by every texture of one image (a glTF image used by many
+    /// textures, each with its own sampler, is decoded once).
+    rgb: std::rc::Rc<[[u8; 3]]>,
     /// Wrap along u and v.
     pub wrap: [Wrap; 2],
 }
@@ -59,19 +61,30 @@ impl Texture {
         let mut reader =
             ImageReader::new(Cursor::new(bytes)).with_guessed_format().map_err(|e| e.to_string())?;
         reader.limits(limits);
-        let image = reader.decode().map_err(|e| e.to_string())?.into_rgb8();
+        let image = reader.decode().map_err(|e| e.to_string())?;
+        // The RGB copy is allocated here, outside the decoder's limits:
+        // fallibly, so a machine out of memory gives an error, not a panic.
+        let texels = image.width() as usize * image.height() as usize;
+        let mut rgb: Vec<[u8; 3]> = Vec::new();
+        rgb.try_reserve_exact(texels).map_err(|_| format!("no memory for {texels} texels"))?;
+        let image = image.into_rgb8();
         let (width, height) = image.dimensions();
         if width == 0 || height == 0 {
             return Err(format!("the image is {width}x{height} pixels"));
         }
-        let rgb = image.pixels().map(|p| p.0).collect();
-        Ok(Texture { width, height, rgb, wrap: [Wrap::Repeat; 2] })
+        rgb.extend(image.pixels().map(|p| p.0));
+        Ok(Texture { width, height, rgb: rgb.into(), wrap: [Wrap::Repeat; 2] })
     }
 
     /// A texture from texels (rows top to bottom), for tests and generators.
     pub fn from_texels(width: u32, height: u32, rgb: Vec<[u8; 3]>) -> Texture {
         assert_eq!(rgb.len(), width as usize * height as usize, "texel count");
-        Texture { width, height, rgb, wrap: [Wrap::Repeat; 2] }
+        Texture { width, height, rgb: rgb.into(), wrap: [Wrap::Repeat; 2] }
+    }
+
+    /// The memory its texels take.
+    pub fn bytes(&self) -> u64 {
+        self.rgb.len() as u64 * 3
     }
 
     /// Image size in texels.

@@ -64,6 +64,12 @@ struct Args {
     #[arg(long, value_name = "N", default_value_t = nffkit_formats::mesh::resource::MAX_TRIANGLES,
           value_parser = clap::value_parser!(u64).range(1..))]
     max_triangles: u64,
+    /// The most memory the decoded textures may take in all, in MB; a
+    /// texture past it keeps its material's factor, with a warning. Each
+    /// image is decoded once, however many textures use it.
+    #[arg(long, value_name = "MB", default_value_t = nffkit_formats::mesh::resource::MAX_TEXTURE_BYTES >> 20,
+          value_parser = clap::value_parser!(u64).range(1..=1 << 24))]
+    max_texture_mb: u64,
     /// The source's up axis (only the view uses it).
     #[arg(long, value_enum, default_value_t = UpArg::Y)]
     up: UpArg,
@@ -113,6 +119,7 @@ fn run(a: &Args) -> Result<()> {
         textures: !a.no_textures,
         allow_outside_paths: a.allow_outside_paths,
         max_triangles: a.max_triangles,
+        max_texture_bytes: a.max_texture_mb << 20,
     };
     let mesh = if a.model.as_os_str() == "-" {
         let bytes = nffkit_tools::input::read_stream(

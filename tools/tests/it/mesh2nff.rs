@@ -652,3 +652,36 @@ fn gltf_is_read_as_the_spec_allows() {
     assert_eq!(code, Some(1));
     assert!(err.contains("the scene has no nodes"), "{err}");
 }
+
+#[test]
+fn an_image_used_by_many_textures_is_decoded_once_within_the_memory_bound() {
+    use nffkit_formats::mesh::{load_with, resource::ImportOptions};
+    let dir = tempfile::tempdir().unwrap();
+    // One 64x64 PNG, twenty textures and materials using it.
+    let mut png = Vec::new();
+    image::RgbImage::from_pixel(64, 64, image::Rgb([200, 30, 30]))
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .unwrap();
+    let textures: Vec<String> = (0..20).map(|_| r#"{"source":0}"#.to_string()).collect();
+    let materials: Vec<String> = (0..20)
+        .map(|i| format!(r#"{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":{i}}}}}}}"#))
+        .collect();
+    let extra = format!(
+        r#""images":[{{"uri":"data:image/png;base64,{}"}}],"textures":[{}],"materials":[{}],"#,
+        base64(&png),
+        textures.join(","),
+        materials.join(",")
+    );
+    let path = write_file(dir.path(), "shared.gltf", &gltf_json(&TRI, None, &extra, 4, "", None));
+    let texels = 64 * 64 * 3;
+    // Room for two decodes: twenty textures of one image fit, decoded once.
+    let opts = ImportOptions { max_texture_bytes: 2 * texels, ..Default::default() };
+    let mesh = load_with(&path, &opts).unwrap();
+    assert!(!mesh.warnings.iter().any(|w| w.contains("texture")), "{:?}", mesh.warnings);
+    // Room for none: each texture keeps its factor, with a warning.
+    let opts = ImportOptions { max_texture_bytes: texels - 1, ..Default::default() };
+    let mesh = load_with(&path, &opts).unwrap();
+    let past =
+        mesh.warnings.iter().filter(|w| w.contains(&format!("past {} bytes in all", texels - 1))).count();
+    assert_eq!(past, 20, "{:?}", mesh.warnings);
+}
