@@ -124,6 +124,7 @@ pub fn load_bytes(bytes: &[u8], path: &Path, opts: &ImportOptions) -> Result<Mes
         looks: &looks,
         skipped_modes: HashMap::new(),
         degenerate: 0,
+        compression: GEOMETRY_EXTENSIONS.into_iter().find(|e| doc.extensions_used().any(|u| u == *e)),
         orthographic: 0,
     };
     for node in roots {
@@ -139,6 +140,7 @@ pub fn load_bytes(bytes: &[u8], path: &Path, opts: &ImportOptions) -> Result<Mes
             crate::plural(state.orthographic)
         ));
     }
+    mesh.dropped_degenerate = state.degenerate;
     if state.degenerate > 0 {
         mesh.warnings.push(format!(
             "{} degenerate triangles dropped (strip stitching or repeated indices)",
@@ -412,6 +414,8 @@ struct State<'a> {
     looks: &'a [Look],
     skipped_modes: HashMap<&'static str, usize>,
     degenerate: usize,
+    /// A geometry-compression extension the file uses (not requires).
+    compression: Option<&'static str>,
     orthographic: usize,
 }
 
@@ -451,6 +455,30 @@ impl State<'_> {
         Ok(())
     }
 
+    /// Why a primitive's positions cannot be read: it has none, they are
+    /// compressed by an extension, or they lie outside their buffer.
+    fn unreadable_positions(&self, prim: &::gltf::Primitive) -> String {
+        let Some(a) = prim.get(&::gltf::Semantic::Positions) else {
+            return "a primitive has no POSITION attribute".into();
+        };
+        if let Some(ext) = self.compression {
+            return format!("its geometry is compressed with {ext}, which mesh2nff cannot decode (decompress the file first)");
+        }
+        match a.view() {
+            None => format!("POSITION accessor {} has no buffer view (and no sparse values to read)", a.index()),
+            Some(view) => format!(
+                "POSITION accessor {} ({} elements from byte {} of buffer view {}, {} bytes long, of buffer {} of {} bytes) lies outside its data",
+                a.index(),
+                a.count(),
+                a.offset(),
+                view.index(),
+                view.length(),
+                view.buffer().index(),
+                self.buffers.get(view.buffer().index()).map_or(0, |b| b.0.len())
+            ),
+        }
+    }
+
     fn primitive(
         &mut self,
         mesh: &mut Mesh,
@@ -485,7 +513,7 @@ impl State<'_> {
             }
         }
         let Some(positions) = reader.read_positions() else {
-            return Err(MeshError::invalid(self.path, "a primitive has no POSITION attribute"));
+            return Err(MeshError::invalid(self.path, self.unreadable_positions(prim)));
         };
         let base = mesh.positions.len() as u32;
         for p in positions {

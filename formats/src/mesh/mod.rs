@@ -88,6 +88,9 @@ pub struct Mesh {
     pub cameras: Vec<MeshCamera>,
     /// Things that were dropped or approximated, for the user.
     pub warnings: Vec<String>,
+    /// Degenerate triangles the importer dropped (strip stitching,
+    /// repeated indices), which are not among `faces`.
+    pub dropped_degenerate: usize,
 }
 
 impl Mesh {

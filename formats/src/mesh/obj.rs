@@ -74,7 +74,7 @@ fn sanitize(
     face_normals: &mut Vec<bool>,
 ) -> String {
     let mut out = String::with_capacity(text.len());
-    let (mut lines, mut points) = (0, 0);
+    let (mut lines, mut points, mut bad_colors) = (0, 0, 0);
     let raw: Vec<&str> = text.lines().collect();
     let mut i = 0;
     while i < raw.len() {
@@ -102,7 +102,11 @@ fn sanitize(
                 let rest: Vec<&str> = words.collect();
                 match colored_vertex(&rest) {
                     Some((key, color)) => {
-                        colors.entry(key).or_insert(color);
+                        if color.is_finite() {
+                            colors.entry(key).or_insert(color);
+                        } else {
+                            bad_colors += 1;
+                        }
                         out.push_str(&format!("v {} {} {}", rest[0], rest[1], rest[2]));
                     }
                     None if rest.len() == 4 => {
@@ -126,6 +130,12 @@ fn sanitize(
             out.push('\n');
         }
         i += 1;
+    }
+    if bad_colors > 0 {
+        warnings.push(format!(
+            "{bad_colors} vertex colour{} not a number (NaN or infinite); those colours are ignored",
+            if bad_colors == 1 { " is" } else { "s are" }
+        ));
     }
     if lines + points > 0 {
         warnings.push(format!(

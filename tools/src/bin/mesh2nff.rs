@@ -127,6 +127,12 @@ fn run(a: &Args) -> Result<()> {
             "standard input",
             nffkit_tools::input::stream_cap(),
         )?;
+        if bytes.starts_with(b"glTF") || bytes.trim_ascii_start().starts_with(b"{") || bytes.contains(&0) {
+            anyhow::bail!(
+                "standard input is read as OBJ text, and this is not (a GLB, glTF JSON or other binary); \
+                 give a glTF or GLB file by name"
+            );
+        }
         nffkit_formats::mesh::load_obj_bytes(
             &bytes,
             std::path::Path::new("<stdin>"),
@@ -158,6 +164,13 @@ fn run(a: &Args) -> Result<()> {
         },
         camera: a.camera,
     };
+    if let Some(i) = a.camera.filter(|&i| i >= mesh.cameras.len()) {
+        anyhow::bail!(
+            "--camera {i}: {name} has {} perspective camera{} (numbered from 0)",
+            mesh.cameras.len(),
+            if mesh.cameras.len() == 1 { "" } else { "s" }
+        );
+    }
     nffkit_tools::mesh2nff::check(&mesh).with_context(|| format!("cannot convert {name}"))?;
     let mut summary = None;
     cli_util::write_output(a.output.as_deref(), |w| {
@@ -175,7 +188,7 @@ fn run(a: &Args) -> Result<()> {
             s.patches,
             s.materials,
             s.triangulated,
-            s.degenerate
+            s.degenerate + mesh.dropped_degenerate
         );
     }
     Ok(())

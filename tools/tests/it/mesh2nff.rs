@@ -685,3 +685,43 @@ fn an_image_used_by_many_textures_is_decoded_once_within_the_memory_bound() {
         mesh.warnings.iter().filter(|w| w.contains(&format!("past {} bytes in all", texels - 1))).count();
     assert_eq!(past, 20, "{:?}", mesh.warnings);
 }
+
+#[test]
+fn messages_say_what_happened() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let run = |args: &[&str], stdin: Option<&str>| {
+        let o = mesh2nff(args, d, stdin);
+        (o.status.code(), String::from_utf8_lossy(&o.stderr).into_owned())
+    };
+    // Degenerate triangles dropped by the importer are in the summary.
+    let strip = gltf_json(&TRI, Some(&[0, 1, 2, 2, 2]), "", 5, "", None);
+    write_file(d, "strip.gltf", &strip);
+    let (code, err) = run(&["strip.gltf", "--no-view"], None);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(err.contains("2 degenerate triangles dropped") && err.contains("2 degenerate dropped)"), "{err}");
+    // Positions outside their buffer are named as such.
+    let short = gltf_json(&TRI, None, "", 4, "", None).replace(r#""count":3"#, r#""count":30"#);
+    write_file(d, "short.gltf", &short);
+    let (code, err) = run(&["short.gltf", "--no-view"], None);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("POSITION accessor 0") && err.contains("lies outside its data"), "{err}");
+    // --camera past the cameras is an argument error.
+    write_file(d, "t.gltf", &gltf_json(&TRI, None, "", 4, "", None));
+    let (code, err) = run(&["t.gltf", "--camera", "3", "-o", "x.nff"], None);
+    assert_eq!(code, Some(1));
+    assert!(
+        err.contains("--camera 3: t.gltf has 0 perspective cameras") && !err.contains("cannot write"),
+        "{err}"
+    );
+    // A glTF piped to standard input.
+    let (code, err) = run(&["-"], Some(&gltf_json(&TRI, None, "", 4, "", None)));
+    assert_eq!(code, Some(1));
+    assert!(err.contains("standard input is read as OBJ text"), "{err}");
+    // A NaN vertex colour: a warning, not a black face.
+    write_file(d, "nan.obj", "v 0 0 0 nan 0 0\nv 1 0 0 1 0 0\nv 0 1 0 1 0 0\nf 1 2 3\n");
+    let o = mesh2nff(&["nan.obj", "--no-view"], d, None);
+    let (out, err) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert!(err.contains("1 vertex colour is not a number"), "{err}");
+    assert!(out.contains("f 1 0 0 "), "{out}");
+}

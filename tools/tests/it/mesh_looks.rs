@@ -494,7 +494,7 @@ fn the_command_line_takes_lights_camera_and_path_options_and_check_finds_it_lit(
 
     let out = mesh2nff(&["c.obj", "--camera", "0"], dir.path());
     assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("--camera 0: the model has 0 perspective cameras"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--camera 0: c.obj has 0 perspective cameras"));
 
     write_file(dir.path(), "far.mtl", "newmtl m\nKd 1 0 0\n");
     std::fs::create_dir(dir.path().join("sub")).unwrap();
