@@ -45,6 +45,9 @@ use std::rc::Rc;
 const GEOMETRY_EXTENSIONS: [&str; 3] =
     ["KHR_draco_mesh_compression", "KHR_mesh_quantization", "EXT_meshopt_compression"];
 
+/// Extensions gltf-json calls unsupported that this importer reads.
+const HANDLED_EXTENSIONS: [&str; 1] = ["EXT_mesh_gpu_instancing"];
+
 /// Import a glTF or GLB file.
 pub fn load(path: &Path, opts: &ImportOptions) -> Result<Mesh, MeshError> {
     let bytes =
@@ -120,6 +123,7 @@ pub fn load_bytes(bytes: &[u8], path: &Path, opts: &ImportOptions) -> Result<Mes
     };
     let mut state = State {
         path,
+        doc,
         buffers: &buffers,
         looks: &looks,
         skipped_modes: HashMap::new(),
@@ -230,9 +234,16 @@ fn validated(
         let at = where_.to_string();
         match e {
             V::Missing if at.ends_with(".min") || at.ends_with(".max") => no_bounds += 1,
-            V::Unsupported if at.starts_with("extensionsRequired") => warnings.push(format!(
-                "{at}: not supported, but it does not change geometry; ignored (the look may differ)"
-            )),
+            V::Unsupported if at.starts_with("extensionsRequired") => {
+                let index = at.trim_start_matches("extensionsRequired[").trim_end_matches(']').parse().ok();
+                let name = index.and_then(|i: usize| raw.extensions_required().nth(i));
+                if !name.is_some_and(|n| HANDLED_EXTENSIONS.contains(&n)) {
+                    warnings.push(format!(
+                        "{at}{}: not supported, but it does not change geometry; ignored (the look may differ)",
+                        name.map(|n| format!(" ({n})")).unwrap_or_default()
+                    ));
+                }
+            }
             _ => fatal.push(format!("{at}: {e}")),
         }
     }
@@ -410,6 +421,7 @@ impl Look {
 
 struct State<'a> {
     path: &'a Path,
+    doc: &'a ::gltf::Document,
     buffers: &'a [::gltf::buffer::Data],
     looks: &'a [Look],
     skipped_modes: HashMap<&'static str, usize>,
@@ -445,14 +457,86 @@ impl State<'_> {
             }
         }
         if let Some(m) = node.mesh() {
-            for prim in m.primitives() {
-                self.primitive(mesh, &prim, &world)?;
+            for placed in self.instances(node, &world)? {
+                for prim in m.primitives() {
+                    self.primitive(mesh, &prim, &placed)?;
+                }
             }
         }
         for child in node.children() {
             self.walk(mesh, &child, world, depth + 1)?;
         }
         Ok(())
+    }
+
+    /// Where the node's mesh goes: at `world`, or once per instance of
+    /// EXT_mesh_gpu_instancing (TRANSLATION, ROTATION, SCALE accessors of
+    /// floats, each instance's T R S applied before the node's transform;
+    /// the count is bounded by the size check).
+    fn instances(&self, node: &::gltf::Node, world: &DMat4) -> Result<Vec<DMat4>, MeshError> {
+        let Some(ext) = node.extension_value("EXT_mesh_gpu_instancing") else { return Ok(vec![*world]) };
+        let attribute = |name: &str| {
+            let index = ext.get("attributes")?.get(name)?.as_u64()?;
+            self.doc.accessors().nth(index as usize)
+        };
+        let data = |b: ::gltf::Buffer| self.buffers.get(b.index()).map(|d| &d.0[..]);
+        let bad = |name: &str| {
+            MeshError::invalid(
+                self.path,
+                format!(
+                    "node {}: EXT_mesh_gpu_instancing {name} is not a readable accessor of floats",
+                    node.index()
+                ),
+            )
+        };
+        let read3 = |name: &str| -> Result<Option<Vec<[f32; 3]>>, MeshError> {
+            let Some(a) = attribute(name) else { return Ok(None) };
+            let ok = a.data_type() == ::gltf::accessor::DataType::F32
+                && a.dimensions() == ::gltf::accessor::Dimensions::Vec3;
+            ok.then(|| ::gltf::accessor::Iter::<[f32; 3]>::new(a, data).map(|i| i.collect()))
+                .flatten()
+                .map(Some)
+                .ok_or_else(|| bad(name))
+        };
+        let rotations: Option<Vec<[f32; 4]>> = match attribute("ROTATION") {
+            None => None,
+            Some(a) => {
+                let ok = a.data_type() == ::gltf::accessor::DataType::F32
+                    && a.dimensions() == ::gltf::accessor::Dimensions::Vec4;
+                Some(
+                    ok.then(|| ::gltf::accessor::Iter::<[f32; 4]>::new(a, data).map(|i| i.collect()))
+                        .flatten()
+                        .ok_or_else(|| bad("ROTATION"))?,
+                )
+            }
+        };
+        let (translations, scales) = (read3("TRANSLATION")?, read3("SCALE")?);
+        let n = [
+            translations.as_ref().map(Vec::len),
+            rotations.as_ref().map(Vec::len),
+            scales.as_ref().map(Vec::len),
+        ]
+        .into_iter()
+        .flatten()
+        .max()
+        .unwrap_or(0);
+        Ok((0..n)
+            .map(|i| {
+                let t = translations
+                    .as_ref()
+                    .and_then(|v| v.get(i))
+                    .map_or(glam::DVec3::ZERO, |t| t.map(f64::from).into());
+                let r = rotations
+                    .as_ref()
+                    .and_then(|v| v.get(i))
+                    .map_or(glam::DQuat::IDENTITY, |q| glam::DQuat::from_array(q.map(f64::from)).normalize());
+                let s = scales
+                    .as_ref()
+                    .and_then(|v| v.get(i))
+                    .map_or(glam::DVec3::ONE, |s| s.map(f64::from).into());
+                *world * DMat4::from_scale_rotation_translation(s, r, t)
+            })
+            .collect())
     }
 
     /// Why a primitive's positions cannot be read: it has none, they are

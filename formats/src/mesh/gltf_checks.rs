@@ -198,8 +198,24 @@ fn sizes(json: &Root, max_triangles: u64) -> Vec<String> {
                 .sum()
         })
     };
-    let total: u64 =
-        json.nodes.iter().filter_map(|n| n.mesh.as_ref()).map(|m| triangles_of_mesh(m.value())).sum();
+    // EXT_mesh_gpu_instancing places a node's mesh once per element of
+    // its attributes.
+    let instances = |n: &::gltf::json::Node| -> u64 {
+        let attributes = n
+            .extensions
+            .as_ref()
+            .and_then(|e| e.others.get("EXT_mesh_gpu_instancing"))
+            .and_then(|v| v.get("attributes"));
+        attributes
+            .and_then(|a| a.as_object())
+            .map(|a| a.values().filter_map(|i| i.as_u64()).map(|i| count_of(i as usize)).max().unwrap_or(0))
+            .unwrap_or(1)
+    };
+    let total: u64 = json
+        .nodes
+        .iter()
+        .filter_map(|n| n.mesh.as_ref().map(|m| triangles_of_mesh(m.value()).saturating_mul(instances(n))))
+        .fold(0u64, u64::saturating_add);
     if total > max_triangles {
         found.push(format!("the model has up to {total} triangles, more than {max_triangles} ({raise})"));
     }

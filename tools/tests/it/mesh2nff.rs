@@ -725,3 +725,30 @@ fn messages_say_what_happened() {
     assert!(err.contains("1 vertex colour is not a number"), "{err}");
     assert!(out.contains("f 1 0 0 "), "{out}");
 }
+
+#[test]
+fn gpu_instancing_places_the_mesh_once_per_instance() {
+    let dir = tempfile::tempdir().unwrap();
+    let offsets: Vec<u8> =
+        [0f32, 0., 0., 10., 0., 0., 20., 0., 0.].iter().flat_map(|f| f.to_le_bytes()).collect();
+    let json = gltf_json(&TRI, None, r#""extensionsUsed":["EXT_mesh_gpu_instancing"],"extensionsRequired":["EXT_mesh_gpu_instancing"],"#, 4, r#"[{"mesh":0,"translation":[0,5,0],"extensions":{"EXT_mesh_gpu_instancing":{"attributes":{"TRANSLATION":1}}}}]"#, None)
+        .replace(
+            r#""buffers":["#,
+            &format!(r#""buffers":[{{"byteLength":36,"uri":"data:application/octet-stream;base64,{}"}},"#, base64(&offsets)),
+        )
+        .replace(r#""buffer":0,"byteOffset":0"#, r#""buffer":1,"byteOffset":0"#)
+        .replace(r#""bufferViews":["#, r#""bufferViews":[{"buffer":0,"byteLength":36},"#)
+        .replace(r#""accessors":[{"bufferView":0"#, r#""accessors":[{"bufferView":1"#);
+    // Accessor 0 (positions) now reads view 1 (buffer 1: the triangle);
+    // accessor 1, the translations, reads view 0.
+    let json = json.replace(
+        r#""max":[1.0, 1.0, 0.0]}"#,
+        r#""max":[1.0, 1.0, 0.0]},{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"}"#,
+    );
+    let p = write_file(dir.path(), "inst.gltf", &json);
+    let (scene, _, _) = convert(&p, &Options::default());
+    assert_eq!(scene.primitives.len(), 3, "{json}");
+    let xs: Vec<f64> = scene.primitives.iter().map(|p| vertices(&p.shape)[0].x).collect();
+    assert_eq!(xs, [0.0, 10.0, 20.0]);
+    assert!(scene.primitives.iter().all(|p| vertices(&p.shape)[0].y == 5.0));
+}
