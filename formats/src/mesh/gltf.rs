@@ -31,7 +31,7 @@
 
 use super::resource::{read_uri, resolve, ImportOptions};
 use super::texture::{Texture, Wrap};
-use super::{Corner, Face, Mesh, MeshCamera, MeshError};
+use super::{Corner, Face, Mesh, MeshCamera, MeshError, MeshLight};
 use crate::scene::Material;
 use ::gltf::mesh::Mode;
 use ::gltf::Gltf;
@@ -455,6 +455,22 @@ impl State<'_> {
                 },
                 ::gltf::camera::Projection::Orthographic(_) => self.orthographic += 1,
             }
+        }
+        if let Some(light) = node.light() {
+            use ::gltf::khr_lights_punctual::Kind;
+            let kind = match light.kind() {
+                Kind::Point => "point",
+                Kind::Spot { .. } => "spot",
+                Kind::Directional => "directional",
+            };
+            let power = DVec3::from(light.color().map(f64::from)) * light.intensity() as f64;
+            let direction = world.transform_vector3(-DVec3::Z).normalize_or(-DVec3::Z);
+            mesh.lights.push(MeshLight {
+                kind,
+                position: world.transform_point3(DVec3::ZERO),
+                direction,
+                power,
+            });
         }
         if let Some(m) = node.mesh() {
             for placed in self.instances(node, &world)? {

@@ -15,6 +15,7 @@ use ::gltf::json::Root;
 pub(super) fn problems(json: &Root, opts: &ImportOptions) -> Vec<String> {
     let mut found = unreadable_accessors(json);
     found.extend(node_forest(json));
+    found.extend(missing_lights(json));
     if found.is_empty() {
         found.extend(sizes(json, opts.max_triangles));
     }
@@ -103,6 +104,23 @@ fn unreadable_accessors(json: &Root) -> Vec<String> {
         }
     }
     found
+}
+
+/// Nodes naming a KHR_lights_punctual light the file lacks (gltf unwraps
+/// the lookup).
+fn missing_lights(json: &Root) -> Vec<String> {
+    let count =
+        json.extensions.as_ref().and_then(|e| e.khr_lights_punctual.as_ref()).map_or(0, |l| l.lights.len());
+    json.nodes
+        .iter()
+        .enumerate()
+        .filter_map(|(i, n)| {
+            let light = n.extensions.as_ref()?.khr_lights_punctual.as_ref()?.light.value();
+            (light >= count).then(|| {
+                format!("nodes[{i}].extensions.KHR_lights_punctual.light: light {light} does not exist (the file has {count})")
+            })
+        })
+        .collect()
 }
 
 /// The spec's node graph: every node the child of at most one node, no

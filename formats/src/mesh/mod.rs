@@ -54,6 +54,19 @@ impl Face {
     }
 }
 
+/// A light of the file (glTF KHR_lights_punctual), in world space.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshLight {
+    /// "point", "spot" or "directional".
+    pub kind: &'static str,
+    /// Where it is (point and spot lights).
+    pub position: DVec3,
+    /// Where it shines (spot and directional lights: the node's -z).
+    pub direction: DVec3,
+    /// Linear RGB colour times intensity (candela, or lux when directional).
+    pub power: DVec3,
+}
+
 /// A perspective camera of the file, in world space.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MeshCamera {
@@ -88,6 +101,8 @@ pub struct Mesh {
     pub cameras: Vec<MeshCamera>,
     /// Things that were dropped or approximated, for the user.
     pub warnings: Vec<String>,
+    /// The file's lights.
+    pub lights: Vec<MeshLight>,
     /// Degenerate triangles the importer dropped (strip stitching,
     /// repeated indices), which are not among `faces`.
     pub dropped_degenerate: usize,

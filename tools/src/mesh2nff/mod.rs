@@ -14,6 +14,7 @@
 
 pub mod emission;
 pub mod probe;
+mod punctual;
 pub mod view;
 
 use anyhow::{Context, Result};
@@ -296,9 +297,16 @@ fn stage(
             _ => framing_view(b, o),
         },
     };
+    // The model's own lights, from emitting faces and from the file.
+    let mut own = emission.clone();
+    own.extend(punctual::lights(mesh, |p| place.apply(p), b));
+    if let Some(note) = punctual::note(mesh) {
+        summary.notes.push(note);
+    }
+    let has_own = !own.is_empty();
     let mut lights = match o.lights {
-        Lights::Auto if emission.is_empty() => framing_lights,
-        _ => emission.clone(),
+        Lights::Auto if own.is_empty() => framing_lights,
+        _ => own,
     };
     let eye = match (o.lights, &mut probe) {
         (Lights::Eye, _) => Some("--lights eye".to_string()),
@@ -315,7 +323,7 @@ fn stage(
     if let Some(why) = eye {
         // Beside coloured emission lights (which total 1) a half-strength
         // white fill; alone or beside framing lights, the SPD's 1/sqrt(n).
-        let color = (!emission.is_empty()).then_some(DVec3::splat(0.5));
+        let color = has_own.then_some(DVec3::splat(0.5));
         lights.push(view::eye_light(&view, color));
         summary.notes.push(format!("a light at the eye: {why}"));
     }

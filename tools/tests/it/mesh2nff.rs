@@ -752,3 +752,34 @@ fn gpu_instancing_places_the_mesh_once_per_instance() {
     assert_eq!(xs, [0.0, 10.0, 20.0]);
     assert!(scene.primitives.iter().all(|p| vertices(&p.shape)[0].y == 5.0));
 }
+
+#[test]
+fn punctual_lights_become_nff_lights() {
+    let dir = tempfile::tempdir().unwrap();
+    let lights = r#""extensionsUsed":["KHR_lights_punctual"],"extensions":{"KHR_lights_punctual":{"lights":[
+        {"type":"point","color":[1,0.5,0.5],"intensity":3},{"type":"directional","intensity":1}]}},"#;
+    let nodes = r#"[{"mesh":0,"children":[1,2]},{"translation":[0,0,4],"extensions":{"KHR_lights_punctual":{"light":0}}},
+        {"rotation":[0.7071068,0,0,0.7071068],"extensions":{"KHR_lights_punctual":{"light":1}}}]"#;
+    write_file(dir.path(), "lit.gltf", &gltf_json(&TRI, None, lights, 4, nodes, None));
+    let o = mesh2nff(&["lit.gltf"], dir.path(), None);
+    let (out, err) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("lights from the file's KHR_lights_punctual: 1 point, 1 directional (as a far light)"),
+        "{err}"
+    );
+    let ls: Vec<&str> = out.lines().filter(|l| l.starts_with("l ")).collect();
+    assert_eq!(ls.len(), 2, "{out}");
+    // The point light where its node is, its power's share (3, 1.5, 1.5 of
+    // a total of 4, 2.5, 2.5: scaled by 1/4).
+    assert!(ls[0].starts_with("l 0 0 4 0.75 0.375 0.375"), "{}", ls[0]);
+    // The directional light shines along its node's -z turned 90° about x
+    // (down -y... toward +y from far below): far away on the -y side...
+    let y: f64 = ls[1].split_whitespace().nth(2).unwrap().parse().unwrap();
+    assert!(y.abs() > 100.0, "{}", ls[1]);
+    // A node naming a light the file lacks: refused, not a panic.
+    let bad = nodes.replace(r#""light":1"#, r#""light":7"#);
+    write_file(dir.path(), "bad.gltf", &gltf_json(&TRI, None, lights, 4, &bad, None));
+    let o = mesh2nff(&["bad.gltf"], dir.path(), None);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("light 7 does not exist (the file has 2)"));
+}
