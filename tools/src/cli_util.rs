@@ -133,6 +133,33 @@ pub fn remove_partial_files_on_interrupt() {
     });
 }
 
+/// Run `load`, turning a panic inside it (in a dependency: the project's
+/// own checks come first, this is the last line of defence) into an error
+/// naming the file, without the panic's own report.
+pub fn without_panics<T>(name: &str, load: impl FnOnce() -> T) -> Result<T> {
+    static MESSAGE: std::sync::Mutex<String> = std::sync::Mutex::new(String::new());
+    let previous = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|info| {
+        let at = info.location().map(|l| format!(" at {}:{}", l.file(), l.line())).unwrap_or_default();
+        *MESSAGE.lock().unwrap_or_else(|e| e.into_inner()) = format!("{}{at}", panic_text(info.payload()));
+    }));
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(load));
+    std::panic::set_hook(previous);
+    result.map_err(|_| {
+        let why = MESSAGE.lock().unwrap_or_else(|e| e.into_inner()).clone();
+        anyhow::anyhow!("cannot convert {name}: a library it uses failed on this file ({why}); the file is malformed in a way not yet named")
+    })
+}
+
+/// A panic's message, when it is text.
+pub fn panic_text(payload: &(dyn std::any::Any + Send)) -> &str {
+    payload
+        .downcast_ref::<&str>()
+        .copied()
+        .or(payload.downcast_ref::<String>().map(String::as_str))
+        .unwrap_or("a panic")
+}
+
 /// Print the error chain and map to an exit code. A closed pipe is no
 /// error (the reader had what it wanted): exit 0 without a word, as
 /// ripgrep does.
@@ -167,4 +194,18 @@ pub fn chain_once(e: &anyhow::Error) -> String {
         text.push_str(&part);
     }
     text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_panic_inside_becomes_an_error_naming_the_file() {
+        let e =
+            without_panics("m.gltf", || -> u32 { panic!("index out of bounds") }).unwrap_err().to_string();
+        assert!(e.contains("cannot convert m.gltf") && e.contains("index out of bounds"), "{e}");
+        assert_eq!(without_panics("m.gltf", || 7).unwrap(), 7);
+        assert!(chain_once(&anyhow::anyhow!("a: b").context("a: b")).matches("a: b").count() == 1);
+    }
 }

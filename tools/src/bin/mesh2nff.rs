@@ -140,7 +140,7 @@ fn run(a: &Args) -> Result<()> {
             &import,
         )
     } else {
-        without_panics(&name, || nffkit_formats::mesh::load_with(&a.model, &import))?
+        cli_util::without_panics(&name, || nffkit_formats::mesh::load_with(&a.model, &import))?
     }
     .context("cannot convert")?;
     if !a.quiet {
@@ -192,33 +192,6 @@ fn run(a: &Args) -> Result<()> {
         );
     }
     Ok(())
-}
-
-/// Run `load`, turning a panic inside it (in a dependency: the project's
-/// own checks come first, this is the last line of defence) into an error
-/// naming the file, without the panic's own report.
-fn without_panics<T>(name: &str, load: impl FnOnce() -> T) -> Result<T> {
-    static MESSAGE: std::sync::Mutex<String> = std::sync::Mutex::new(String::new());
-    let previous = std::panic::take_hook();
-    std::panic::set_hook(Box::new(|info| {
-        let at = info.location().map(|l| format!(" at {}:{}", l.file(), l.line())).unwrap_or_default();
-        *MESSAGE.lock().unwrap_or_else(|e| e.into_inner()) = format!("{}{at}", panic_text(info.payload()));
-    }));
-    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(load));
-    std::panic::set_hook(previous);
-    result.map_err(|_| {
-        let why = MESSAGE.lock().unwrap_or_else(|e| e.into_inner()).clone();
-        anyhow::anyhow!("cannot convert {name}: a library it uses failed on this file ({why}); the file is malformed in a way mesh2nff does not yet name")
-    })
-}
-
-/// A panic's message, when it is text.
-fn panic_text(payload: &(dyn std::any::Any + Send)) -> &str {
-    payload
-        .downcast_ref::<&str>()
-        .copied()
-        .or(payload.downcast_ref::<String>().map(String::as_str))
-        .unwrap_or("a panic")
 }
 
 fn main() -> ExitCode {
