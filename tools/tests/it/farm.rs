@@ -284,18 +284,23 @@ fn merge_refuses_edited_parts_bad_pixels_and_huge_windows() {
 }
 
 /// A program a farm test runs, or `None` (the test is skipped, saying so)
-/// where it is missing, unless `scripts/test-all.sh` set
-/// NFFKIT_TEST_TOOLS=required, as CI does: then a missing one fails.
+/// where it is missing, unless NFFKIT_TEST_TOOLS=required (the README's
+/// test command, which CI runs): then a missing one fails. The PyPI
+/// programs are looked for in the virtual environment
+/// `scripts/install-test-tools.sh` makes (target/test-tools, or
+/// NFFKIT_TEST_VENV), then on PATH.
 fn program(name: &str) -> Option<std::path::PathBuf> {
-    let venv = std::env::var_os("NFFKIT_TEST_VENV").map(|v| Path::new(&v).join("bin").join(name));
-    let found = venv.filter(|p| p.is_file()).or_else(|| {
+    let venv = std::env::var_os("NFFKIT_TEST_VENV")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/test-tools"));
+    let found = Some(venv.join("bin").join(name)).filter(|p| p.is_file()).or_else(|| {
         let o = Command::new("sh").args(["-c", &format!("command -v {name}")]).output().ok()?;
         o.status.success().then(|| String::from_utf8_lossy(&o.stdout).trim().into())
     });
     if found.is_none() {
         let required = std::env::var("NFFKIT_TEST_TOOLS").is_ok_and(|v| v == "required");
-        assert!(!required, "{name} is missing (scripts/test-all.sh installs it)");
-        eprintln!("skipped: {name} is not installed (scripts/test-all.sh installs it)");
+        assert!(!required, "{name} is missing (scripts/install-test-tools.sh installs it)");
+        eprintln!("skipped: {name} is not installed (scripts/install-test-tools.sh installs it)");
     }
     found
 }

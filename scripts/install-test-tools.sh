@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# Every test, with the real programs the farm tests run: GNU parallel
-# (Debian), openjd-cli and kubernetes-validate (PyPI, in a virtual
-# environment under target/test-tools). Installs what is missing, then runs
-# `cargo test --workspace` with NFFKIT_TEST_TOOLS=required, so that a test
-# needing one of them fails instead of skipping. Extra arguments go to cargo.
+# The real programs the farm tests run, installed where missing: GNU
+# parallel (Debian) and openjd-cli and kubernetes-validate (PyPI, in a
+# virtual environment under target/test-tools, where the tests look). The
+# README's test command runs this, then `cargo test` with
+# NFFKIT_TEST_TOOLS=required, so that a test needing one of them fails
+# instead of skipping.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -28,6 +29,3 @@ if [ ! -x "$venv/bin/openjd" ] || [ ! -x "$venv/bin/kubernetes-validate" ]; then
   fi
   "$venv/bin/pip" install -q --disable-pip-version-check openjd-cli kubernetes-validate
 fi
-export NFFKIT_TEST_TOOLS=required
-export NFFKIT_TEST_VENV=$PWD/$venv
-cargo test --workspace --locked "$@"
