@@ -107,8 +107,10 @@ pub fn print(text: impl std::fmt::Display) -> Result<()> {
 }
 
 /// Run a command's body: temporary files are removed if the process is
-/// interrupted (SIGINT, SIGTERM, SIGHUP; it then exits with 130), and the
-/// result becomes the exit code through [`exit`].
+/// interrupted (SIGINT, SIGTERM, SIGHUP; it then exits with 130), and an
+/// error is printed, its chain once, with exit code 1. A closed pipe is no
+/// error (the reader had what it wanted): exit 0 without a word, as
+/// ripgrep does.
 pub fn run_main(tool: &str, body: impl FnOnce() -> Result<ExitCode>) -> ExitCode {
     remove_partial_files_on_interrupt();
     if let Some(problem) = nffkit_tracer::simd::cap_problem() {
@@ -116,13 +118,17 @@ pub fn run_main(tool: &str, body: impl FnOnce() -> Result<ExitCode>) -> ExitCode
     }
     match body() {
         Ok(code) => code,
-        Err(e) => exit(Err(e), tool),
+        Err(e) if is_broken_pipe(&e) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln_safe!("{tool}: error: {}", chain_once(&e));
+            ExitCode::FAILURE
+        }
     }
 }
 
 /// Install, once, the handler that removes the atomic writer's temporary
 /// files when a signal ends the process.
-pub fn remove_partial_files_on_interrupt() {
+fn remove_partial_files_on_interrupt() {
     static ONCE: std::sync::Once = std::sync::Once::new();
     ONCE.call_once(|| {
         // Failing to install it (another handler) only loses the clean-up.
@@ -152,7 +158,7 @@ pub fn without_panics<T>(name: &str, load: impl FnOnce() -> T) -> Result<T> {
 }
 
 /// A panic's message, when it is text.
-pub fn panic_text(payload: &(dyn std::any::Any + Send)) -> &str {
+fn panic_text(payload: &(dyn std::any::Any + Send)) -> &str {
     payload
         .downcast_ref::<&str>()
         .copied()
@@ -160,22 +166,8 @@ pub fn panic_text(payload: &(dyn std::any::Any + Send)) -> &str {
         .unwrap_or("a panic")
 }
 
-/// Print the error chain and map to an exit code. A closed pipe is no
-/// error (the reader had what it wanted): exit 0 without a word, as
-/// ripgrep does.
-pub fn exit(result: Result<()>, tool: &str) -> ExitCode {
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) if is_broken_pipe(&e) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln_safe!("{tool}: error: {}", chain_once(&e));
-            ExitCode::FAILURE
-        }
-    }
-}
-
 /// Whether `e` comes from writing to a closed pipe.
-pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
+fn is_broken_pipe(e: &anyhow::Error) -> bool {
     e.chain().any(|c| c.downcast_ref::<io::Error>().is_some_and(|io| io.kind() == io::ErrorKind::BrokenPipe))
 }
 

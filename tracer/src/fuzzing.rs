@@ -4,7 +4,7 @@
 //! (`tracer/tests/fuzz-regressions/<target>/`) run the same code.
 
 use crate::accel::{AccelKind, AccelOptions};
-use crate::prepare::{prepare, PrepareOptions, PRECISION_RANGE};
+use crate::prepare::{prepare, PrepareOptions, RenderScene, PRECISION_RANGE};
 use crate::render::{render, RenderSettings};
 use nffkit_formats::fuzzing::Target;
 use nffkit_formats::nff::{self, ParseOptions};
@@ -40,24 +40,25 @@ pub fn render_nff(data: &[u8]) {
     {
         return;
     }
-    let image = |kind: AccelKind, packets: bool| {
+    let prepared = |kind: AccelKind| {
         let accel = AccelOptions { kind, ..Default::default() };
-        let opts = PrepareOptions { width: Some(8), height: Some(8), accel, ..Default::default() };
-        let prepared = prepare(&scene, &opts).ok()?;
-        let settings = RenderSettings { packets, ..Default::default() };
-        let film = render(&prepared, &settings, &|_, _| {}).film;
-        Some(film.pixels.iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<u32>>())
+        prepare(&scene, &PrepareOptions { width: Some(8), height: Some(8), accel, ..Default::default() }).ok()
     };
+    let image = |scene: &RenderScene, packets: bool| {
+        let film = render(scene, &RenderSettings { packets, ..Default::default() }, &|_, _| {}).film;
+        film.pixels.iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<u32>>()
+    };
+    let Some(bvh) = prepared(AccelKind::Bvh) else { return };
     // Past single precision's dynamic range the accelerators may settle
     // rounding differently (render warns of such scenes).
-    let opts = PrepareOptions { width: Some(8), height: Some(8), ..Default::default() };
-    if prepare(&scene, &opts).is_ok_and(|p| p.dynamic_range() > PRECISION_RANGE) {
+    if bvh.dynamic_range() > PRECISION_RANGE {
         return;
     }
-    let reference = image(AccelKind::Bvh, true);
+    let reference = image(&bvh, true);
     for &kind in AccelKind::ALL {
+        let scene = prepared(kind).expect("a scene prepared for one accelerator is for all");
         for packets in [true, false] {
-            assert!(image(kind, packets) == reference, "{kind} (packets {packets}) differs from the BVH");
+            assert!(image(&scene, packets) == reference, "{kind} (packets {packets}) differs from the BVH");
         }
     }
 }

@@ -67,8 +67,13 @@ pub fn random_scene(seed: u64, n: usize, one_sided: bool) -> Geometry {
         };
         scene.primitives.push(Primitive { shape, material: None, line: SourceLine(0) });
     }
+    geometry_of(&scene, one_sided)
+}
+
+/// The primitives of `scene`, all in one white diffuse material.
+pub fn geometry_of(scene: &Scene, one_sided: bool) -> Geometry {
     let m = WhittedMaterial { color: Vec3A::ONE, kd: 1.0, ks: 0.0, shine: 1.0, t: 0.0, ior: 1.0 };
-    build_geometry(&scene, &[m], one_sided)
+    build_geometry(scene, &[m], one_sided)
 }
 
 /// Up to sixteen rays for packet tests: around a common origin and

@@ -58,29 +58,20 @@ pub fn load(path: &Path, opts: &ImportOptions) -> Result<Mesh, MeshError> {
 /// Import glTF or GLB bytes read from `path` (which names the file in
 /// messages; the files it refers to are looked for beside it).
 pub fn load_bytes(bytes: &[u8], path: &Path, opts: &ImportOptions) -> Result<Mesh, MeshError> {
-    // gltf-json 1.4.1 cannot read an animation channel without a node
-    // (KHR_animation_pointer); animations are not converted anyway.
-    if let Err(e) = Gltf::from_slice_without_validation(bytes) {
-        if e.to_string().contains("missing field `node`") {
-            if let Some(stripped) = without_animations(bytes) {
+    let raw = match Gltf::from_slice_without_validation(bytes) {
+        Ok(raw) => raw,
+        // gltf-json 1.4.1 cannot read an animation channel without a node
+        // (KHR_animation_pointer); animations are not converted anyway.
+        Err(e) if e.to_string().contains("missing field `node`") => match without_animations(bytes) {
+            Some(stripped) => {
                 let mut mesh = load_bytes(&stripped, path, opts)?;
                 mesh.warnings.push("animations skipped (NFF has none; some target no node)".into());
                 return Ok(mesh);
             }
-        }
-    }
-    let raw = Gltf::from_slice_without_validation(bytes).map_err(|e| {
-        let why = if is_gltf_1(bytes) {
-            "glTF 1.0 is not supported (only glTF 2.0; convert it first)".to_string()
-        } else if e.to_string().contains("missing field `nodes`") {
-            // Valid glTF (a scene's nodes are optional), which gltf-json
-            // 1.4.1 cannot read; it has nothing to convert either way.
-            "the scene has no nodes: nothing to convert".to_string()
-        } else {
-            format!("not a readable glTF file: {e}")
-        };
-        MeshError::invalid(path, why)
-    })?;
+            None => return Err(unreadable(bytes, path, e)),
+        },
+        Err(e) => return Err(unreadable(bytes, path, e)),
+    };
     for ext in raw.extensions_required() {
         if GEOMETRY_EXTENSIONS.contains(&ext) {
             return Err(MeshError::invalid(
@@ -90,7 +81,7 @@ pub fn load_bytes(bytes: &[u8], path: &Path, opts: &ImportOptions) -> Result<Mes
         }
     }
     let mut warnings = Vec::new();
-    let gltf = validated(raw, bytes, path, opts, &mut warnings)?;
+    let gltf = validated(raw, path, opts, &mut warnings)?;
     let base = path.parent();
     check_buffer_files(&gltf.document, base, path, opts)?;
     let buffers = ::gltf::import_buffers(&gltf.document, base, gltf.blob.clone())
@@ -154,6 +145,20 @@ pub fn load_bytes(bytes: &[u8], path: &Path, opts: &ImportOptions) -> Result<Mes
     Ok(mesh)
 }
 
+/// Why the bytes are no glTF this importer reads.
+fn unreadable(bytes: &[u8], path: &Path, e: ::gltf::Error) -> MeshError {
+    let why = if is_gltf_1(bytes) {
+        "glTF 1.0 is not supported (only glTF 2.0; convert it first)".to_string()
+    } else if e.to_string().contains("missing field `nodes`") {
+        // Valid glTF (a scene's nodes are optional), which gltf-json
+        // 1.4.1 cannot read; it has nothing to convert either way.
+        "the scene has no nodes: nothing to convert".to_string()
+    } else {
+        format!("not a readable glTF file: {e}")
+    };
+    MeshError::invalid(path, why)
+}
+
 /// The file without its `animations` (JSON, or a GLB rebuilt around its
 /// new JSON chunk); `None` when its JSON cannot be read or has none.
 fn without_animations(bytes: &[u8]) -> Option<Vec<u8>> {
@@ -211,23 +216,24 @@ fn is_gltf_1(bytes: &[u8]) -> bool {
 /// (texture transforms, material extensions).
 fn validated(
     raw: Gltf,
-    bytes: &[u8],
     path: &Path,
     opts: &ImportOptions,
     warnings: &mut Vec<String>,
 ) -> Result<Gltf, MeshError> {
-    use ::gltf::json::validation::Error as V;
+    use ::gltf::json::validation::{Error as V, Validate};
     // Files gltf would panic on, or that would expand past the bounds,
     // are refused here first.
     let missing = super::gltf_checks::problems(raw.document.as_json(), opts);
     if !missing.is_empty() {
         return Err(MeshError::invalid(path, format!("invalid glTF: {}", missing.join("; "))));
     }
-    let errors = match Gltf::from_slice(bytes) {
-        Ok(g) => return Ok(g),
-        Err(::gltf::Error::Validation(errors)) => errors,
-        Err(e) => return Err(MeshError::invalid(path, e.to_string())),
-    };
+    // The document read once, validated as gltf's own `from_slice` would.
+    let mut errors = Vec::new();
+    let json = raw.document.as_json();
+    json.validate(json, ::gltf::json::Path::new, &mut |at, e| errors.push((at(), e)));
+    if errors.is_empty() {
+        return Ok(raw);
+    }
     let mut fatal = Vec::new();
     let mut no_bounds = 0;
     for (where_, e) in &errors {

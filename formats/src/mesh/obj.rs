@@ -85,8 +85,9 @@ fn sanitize(
             i += 1;
             line = std::borrow::Cow::Owned(format!("{kept} {}", raw[i]));
         }
-        let keyword = line.split_whitespace().next().map(str::to_string);
-        let keyword = keyword.as_deref();
+        // The keywords this pass acts on, without copying the line.
+        let first = line.split_whitespace().next();
+        let keyword = ["usemtl", "l", "p", "v", "vt", "vn", "f"].into_iter().find(|k| first == Some(*k));
         let data = matches!(keyword, Some("v" | "vt" | "vn" | "f" | "l" | "p"));
         if let (true, Some(hash)) = (data, line.find('#')) {
             line = std::borrow::Cow::Owned(line[..hash].to_string());
@@ -116,10 +117,13 @@ fn sanitize(
                 }
             }
             Some("f") => {
-                let corners: Vec<&str> = words.collect();
-                if corners.len() >= 3 {
-                    face_normals
-                        .push(corners.iter().all(|c| c.split('/').nth(2).is_some_and(|n| !n.is_empty())));
+                let (mut corners, mut with_normals) = (0, 0);
+                for c in words {
+                    corners += 1;
+                    with_normals += c.split('/').nth(2).is_some_and(|n| !n.is_empty()) as usize;
+                }
+                if corners >= 3 {
+                    face_normals.push(with_normals == corners);
                 }
                 out.push_str(&line);
             }

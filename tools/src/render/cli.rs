@@ -67,11 +67,10 @@ fn check_files(files: &[PathBuf], opts: &ParseOptions, warnings: input::Warnings
 
 fn render_command(cfg: &RenderConfig) -> Result<()> {
     let t_start = Instant::now();
-    let mut outputs = Outputs::new().inputs(cfg.input.as_deref()).file("-o", &cfg.output)?;
+    let outputs = Outputs::new().inputs(cfg.input.as_deref()).file("-o", &cfg.output)?;
     if let Some(cost) = &cfg.aov_cost {
-        outputs = outputs.file("--aov-cost", cost)?;
+        outputs.file("--aov-cost", cost)?;
     }
-    drop(outputs);
     if !cfg.quiet {
         for note in &cfg.notes {
             eprintln_safe!("note: {note}");

@@ -151,9 +151,12 @@ fn overlaps_in(plane: &Plane, scale: f64, tests: &mut usize, found: &mut impl Fn
             found(a.line, b.line);
         }
     };
-    // Big polygons against every other (each pair once).
-    for (bi, &i) in big.iter().enumerate() {
-        for j in (0..group.len()).filter(|j| !big[..=bi].contains(j)) {
+    // Big polygons against every other (each pair once: a big one meets
+    // the big ones after it in the list, and every small one).
+    let mut is_big = vec![false; group.len()];
+    big.iter().for_each(|&i| is_big[i] = true);
+    for &i in &big {
+        for j in (0..group.len()).filter(|&j| !is_big[j] || j > i) {
             if *tests >= MAX_TESTS {
                 return;
             }

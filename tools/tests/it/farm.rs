@@ -309,6 +309,12 @@ fn examples() -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples")
 }
 
+/// PATH with the project's binaries first, as the recipes expect them.
+fn path_with_binaries() -> String {
+    let bin = Path::new(RENDER).parent().unwrap().to_string_lossy().into_owned();
+    format!("{bin}:{}", std::env::var("PATH").unwrap_or_default())
+}
+
 /// The bytes of a full render of `s.nff` in `d` at 64x64, as `name`.
 fn full_render(d: &Path, name: &str) -> Vec<u8> {
     ok(&run(RENDER, d, &["s.nff", "-o", name, "--width", "64", "--height", "64", "-q"]));
@@ -362,8 +368,7 @@ fn the_slurm_script_renders_any_evenly_stepped_array() {
     let d = dir.path();
     std::fs::write(d.join("s.nff"), SCENE).unwrap();
     let full = full_render(d, "full.png");
-    let bin = Path::new(RENDER).parent().unwrap().to_string_lossy().into_owned();
-    let path = format!("{bin}:{}", std::env::var("PATH").unwrap_or_default());
+    let path = path_with_binaries();
     let task = |id: u32, min: u32, step: u32, max: u32| {
         Command::new("bash")
             .arg(examples().join("render-array.sbatch"))
@@ -401,7 +406,6 @@ fn the_openjd_template_runs_locally() {
     std::fs::write(d.join("s.nff"), SCENE).unwrap();
     let full = full_render(d, "full.png");
     let template = examples().join("render-tiles.openjd.yaml");
-    let bin = Path::new(RENDER).parent().unwrap().to_string_lossy().into_owned();
     let o = Command::new(&openjd)
         .arg("run")
         .arg(&template)
@@ -413,7 +417,7 @@ fn the_openjd_template_runs_locally() {
         .arg("-p")
         .arg(format!("PartsDir={}", d.join("parts").display()))
         .args(["-p", "Tiles=4", "-p", "RenderOptions=--width 64 --height 64"])
-        .env("PATH", format!("{bin}:{}", std::env::var("PATH").unwrap_or_default()))
+        .env("PATH", path_with_binaries())
         .current_dir(d)
         .output()
         .unwrap();
@@ -444,8 +448,7 @@ fn the_kubernetes_jobs_are_valid_and_their_command_renders_each_index() {
     let d = dir.path();
     // Tall enough for 16 bands of 16 rows.
     std::fs::write(d.join("scene.nff"), SCENE.replace("resolution 48 40", "resolution 24 256")).unwrap();
-    let bin = Path::new(RENDER).parent().unwrap().to_string_lossy().into_owned();
-    let path = format!("{bin}:{}", std::env::var("PATH").unwrap_or_default());
+    let path = path_with_binaries();
     for k in 0..16 {
         let o = Command::new("sh")
             .args(["-c", &tiles])

@@ -452,15 +452,7 @@ mod tests {
             }],
             ..Default::default()
         };
-        let m = crate::material::WhittedMaterial {
-            color: Vec3A::ONE,
-            kd: 1.0,
-            ks: 0.0,
-            shine: 1.0,
-            t: 0.0,
-            ior: 1.0,
-        };
-        let g = crate::prepare::build_geometry(&scene, &[m], false);
+        let g = crate::testing::geometry_of(&scene, false);
         let grid = Grid::build(&g, 2.0, true);
         assert!(
             grid.cells() + grid.items.len() as u64 <= MAX_ENTRIES,

@@ -89,15 +89,7 @@ fn walls_through_the_origin(seed: u64) -> Geometry {
             line: SourceLine(0),
         });
     }
-    let m = crate::material::WhittedMaterial {
-        color: Vec3A::ONE,
-        kd: 1.0,
-        ks: 0.0,
-        shine: 1.0,
-        t: 0.0,
-        ior: 1.0,
-    };
-    crate::prepare::build_geometry(&scene, &[m], false)
+    crate::testing::geometry_of(&scene, false)
 }
 
 proptest! {
