@@ -203,15 +203,18 @@ fn sizes(json: &Root, max_triangles: u64) -> Vec<String> {
             mesh.primitives
                 .iter()
                 .map(|p| {
-                    // A strip or fan makes at most one triangle a vertex.
+                    use ::gltf::json::mesh::{Mode, Semantic};
+                    use ::gltf::json::validation::Checked;
                     let positions = p.attributes.iter().find_map(|(s, a)| {
-                        matches!(
-                            s,
-                            ::gltf::json::validation::Checked::Valid(::gltf::json::mesh::Semantic::Positions)
-                        )
-                        .then(|| count_of(a.value()))
+                        matches!(s, Checked::Valid(Semantic::Positions)).then(|| count_of(a.value()))
                     });
-                    p.indices.as_ref().map(|i| count_of(i.value())).or(positions).unwrap_or(0)
+                    let vertices = p.indices.as_ref().map(|i| count_of(i.value())).or(positions).unwrap_or(0);
+                    match p.mode {
+                        Checked::Valid(Mode::Triangles) => vertices / 3,
+                        Checked::Valid(Mode::TriangleStrip | Mode::TriangleFan) => vertices.saturating_sub(2),
+                        // Points and lines are skipped; an invalid mode is refused.
+                        _ => 0,
+                    }
                 })
                 .sum()
         })

@@ -546,10 +546,14 @@ fn gltf_graphs_and_counts_that_would_explode_are_refused_before_expanding() {
         .replace(r#""scenes":[{"nodes":[0]}]"#, &format!(r#""scenes":[{{"nodes":[{}]}}]"#, roots.join(",")));
     let (code, err) = run("many.gltf", &flat, &["--max-triangles", "50"]);
     assert!(
-        err.contains("the model has up to 300 triangles, more than 50 (--max-triangles raises the bound)"),
+        err.contains("the model has up to 100 triangles, more than 50 (--max-triangles raises the bound)"),
         "{err}"
     );
     assert_eq!(code, Some(1));
+    // Exactly at the bound: a triangle list counts a triangle per three
+    // vertices (it counted one a vertex, refusing models a third the size).
+    let (code, err) = run("many.gltf", &flat, &["--max-triangles", "100"]);
+    assert_eq!(code, Some(0), "{err}");
     let (code, err) = run("many.gltf", &flat, &[]);
     assert_eq!(code, Some(0), "{err}");
 }
