@@ -165,16 +165,22 @@ pub(super) fn parse_chunk(
     (p.scene, p.diags)
 }
 
-/// Room to make for the primitives of `bytes` bytes of NFF like `sample`:
+/// How much of a file the room estimate reads: enough lines for a density,
+/// little beside reading the file (64 KiB of a 300 KB file is 0.4 million
+/// instructions).
+const SAMPLE_BYTES: usize = 1 << 16;
+
+/// Room to make for the primitives of `bytes` bytes of NFF like `sample`
+/// (its first [`SAMPLE_BYTES`]):
 /// as many as the sample's density of object lines (`s`, `p`, `pp`, `c`,
 /// `pl`, `aabb` at a line's start) predicts, and a tenth more. Reserving
 /// up front spares a large list its copies as it doubles (and the higher
 /// peak they make); a sample without objects (a long view or comment)
 /// predicts one per 40 bytes, the shortest an SPD line gets, up to 2^20.
 pub(super) fn primitives_hint(sample: &[u8], bytes: usize) -> usize {
-    let sample = &sample[..sample.len().min(1 << 20)];
-    let objects = std::iter::once(sample)
-        .chain(sample.split(|&b| b == b'\n').skip(1))
+    let sample = &sample[..sample.len().min(SAMPLE_BYTES)];
+    let objects = sample
+        .split(|&b| b == b'\n')
         .filter(|line| {
             let word = line.split(|b| b.is_ascii_whitespace()).next().unwrap_or_default();
             matches!(word, b"s" | b"p" | b"pp" | b"c" | b"pl" | b"aabb")
