@@ -7,9 +7,9 @@
 
 use crate::accel::{with_accel, Intersector, Tracer};
 use crate::geometry::Cull;
-use crate::math::RayQuery;
+use crate::math::{shadow_ray, RayQuery};
 use crate::prepare::RenderScene;
-use glam::Vec2;
+use glam::{Vec2, Vec3A};
 
 /// What the probe's eye rays hit.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -72,6 +72,87 @@ fn probe_with<I: Intersector>(scene: &RenderScene, accel: &I, n: u32) -> ViewPro
     probe
 }
 
+/// A surface point an eye ray sees, for tools that judge a view's lighting
+/// by their own measure (mesh2nff weighs a model's emitting faces against
+/// framing lights).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sighting {
+    /// The point.
+    pub point: Vec3A,
+    /// The shading normal, facing the eye.
+    pub normal: Vec3A,
+    /// The geometric normal, facing the eye (shadow rays start off it).
+    ng: Vec3A,
+    /// Kd × colour of the material.
+    pub albedo: Vec3A,
+    /// The material: 0 for the default, `k` for the file's `k`-th `f`.
+    pub material: u32,
+}
+
+/// What `n` × `n` eye rays spread evenly over the image (as in
+/// [`probe_view`]) see, one entry per ray that hits.
+pub fn sightings(scene: &RenderScene, n: u32) -> Vec<Sighting> {
+    with_accel!(&scene.accel, a => sightings_with(scene, a, n))
+}
+
+fn sightings_with<I: Intersector>(scene: &RenderScene, accel: &I, n: u32) -> Vec<Sighting> {
+    let geom = &scene.geometry;
+    let mut tracer = Tracer::new(accel, geom);
+    let (w, h) = scene.camera.resolution();
+    let mut out = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let x = (i as f32 + 0.5) / n as f32 * w as f32;
+            let y = (j as f32 + 0.5) / n as f32 * h as f32;
+            let (ray, t_min) = scene.camera.ray(x, y, Vec2::ZERO);
+            let q = RayQuery::new(ray, t_min);
+            let Some(hit) = tracer.nearest(&q, f32::INFINITY) else { continue };
+            let s = geom.surface(&hit, &q);
+            let info = &geom.info[hit.prim as usize];
+            let m = &scene.materials[info.material as usize];
+            let flip = if s.ng.dot(ray.d) < 0.0 { 1.0 } else { -1.0 };
+            out.push(Sighting {
+                point: s.p,
+                normal: s.ns * flip,
+                ng: s.ng * flip,
+                albedo: m.kd * m.color,
+                material: info.material,
+            });
+        }
+    }
+    out
+}
+
+/// For each sighting (rows) and each light position (columns), N·L when
+/// the light is on the side the normal faces and nothing blocks the way,
+/// else 0: what a point light of unit intensity gives the point's diffuse
+/// shading.
+pub fn light_reaching(scene: &RenderScene, seen: &[Sighting], lights: &[Vec3A]) -> Vec<f32> {
+    with_accel!(&scene.accel, a => light_reaching_with(scene, a, seen, lights))
+}
+
+fn light_reaching_with<I: Intersector>(
+    scene: &RenderScene,
+    accel: &I,
+    seen: &[Sighting],
+    lights: &[Vec3A],
+) -> Vec<f32> {
+    let mut tracer = Tracer::new(accel, &scene.geometry);
+    let mut out = Vec::with_capacity(seen.len() * lights.len());
+    for s in seen {
+        for &pos in lights {
+            let l = (pos - s.point).normalize_or_zero();
+            let n_dot_l = s.normal.dot(l);
+            let side = if s.ng.dot(l) >= 0.0 { s.ng } else { -s.ng };
+            let clear = n_dot_l > 0.0
+                && shadow_ray(s.point, pos, side)
+                    .is_some_and(|(ray, max)| !tracer.occluded(&RayQuery::new(ray, 0.0), max));
+            out.push(if clear { n_dot_l } else { 0.0 });
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -97,6 +178,40 @@ mod tests {
         assert_eq!((p.rays, p.hits, p.back_faces), (64, 64, 64));
         assert_eq!(p.first_back_face_line, Some(8));
         assert_eq!(probe(FRONT, false).back_faces, 0);
+    }
+
+    #[test]
+    fn sightings_face_the_eye_and_lights_reach_only_unblocked_fronts() {
+        let scene =
+            parse(format!("{VIEW}f 0.5 1 1 0.8 0 1 0 1\n{BACK}").as_bytes(), &ParseOptions::default())
+                .unwrap()
+                .scene;
+        let prepared = prepare(&scene, &PrepareOptions::default()).unwrap();
+        let seen = sightings(&prepared, 4);
+        assert_eq!(seen.len(), 16);
+        assert!(seen
+            .iter()
+            .all(|s| s.normal == Vec3A::Z && s.material == 1 && s.albedo == Vec3A::new(0.4, 0.8, 0.8)));
+        // In front, head on; in front, at 60 degrees; behind the square.
+        let lights = [
+            Vec3A::new(0.0, 0.0, 100.0),
+            Vec3A::new(0.0, 1e4 * 3f32.sqrt(), 1e4),
+            Vec3A::new(0.0, 0.0, -3.0),
+        ];
+        let reach = light_reaching(&prepared, &seen[..1], &lights);
+        assert!(
+            (reach[0] - 1.0).abs() < 1e-3 && (reach[1] - 0.5).abs() < 1e-3 && reach[2] == 0.0,
+            "{reach:?}"
+        );
+        // A strip off to the side, out of view, blocks a low light.
+        let low = [Vec3A::new(50.0, 0.0, 1.0)];
+        assert!(light_reaching(&prepared, &seen[..1], &low)[0] > 0.01);
+        let strip = "p 4\n10 -9 0.05\n10 9 0.05\n10 9 1.5\n10 -9 1.5\n";
+        let scene = parse(format!("{VIEW}{BACK}{strip}").as_bytes(), &ParseOptions::default()).unwrap().scene;
+        let prepared = prepare(&scene, &PrepareOptions::default()).unwrap();
+        let seen = sightings(&prepared, 4);
+        assert_eq!(seen.len(), 16, "the strip is out of view");
+        assert_eq!(light_reaching(&prepared, &seen[..1], &low)[0], 0.0);
     }
 
     #[test]

@@ -19,7 +19,8 @@ use std::process::ExitCode;
 ///
 /// Looks: textures (glTF base colour, OBJ map_Kd) and vertex colours are
 /// averaged per face into `f` colours; emitting faces (glTF emissive, OBJ Ke)
-/// become up to 64 point lights and show their colour. glTF materials map as
+/// become up to 64 point lights just off their fronts and render in their
+/// emission colour (clamped to 1). glTF materials map as
 /// documented in the README (rough → diffuse, smooth metal → mirror).
 ///
 /// View: the model's glTF camera (--camera N, or the only one), else a
@@ -42,8 +43,10 @@ struct Args {
     #[arg(long, value_parser = cli_util::parse_resolution)]
     resolution: Option<[u32; 2]>,
     /// Lights added to the model's emission: `auto` frames the model with
-    /// two lights when nothing emits, and adds one at the eye when the eye
-    /// is inside the model's box or test renders find what it sees unlit;
+    /// two lights unless its emitting faces give what the camera sees more
+    /// than a tenth of its light (then, weighed by that, beside them), and
+    /// adds one at the eye when the eye is inside the model's box or test
+    /// renders find what it sees unlit;
     /// `eye` puts one light at the eye; `none` adds nothing.
     #[arg(long, value_enum, default_value_t = LightsArg::Auto)]
     lights: LightsArg,

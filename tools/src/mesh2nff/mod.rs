@@ -230,21 +230,32 @@ pub fn write<W: Write>(mesh: &Mesh, o: &Options, out: W) -> Result<(W, Summary)>
     let pos = place.positions(mesh);
     let b = bounds(written_corners(mesh).map(|p| pos[p as usize]));
     let mut summary = Summary { bounds: b, ..Default::default() };
-    let mut body = NffWriter::new(Vec::new());
-    write_faces(mesh, o, &pos, &mut body, &mut summary)?;
-    let body = body.into_inner();
+    let emission =
+        if o.view { emission::Emission::of(mesh, &pos, o.scale < 0.0, b) } else { Default::default() };
+    let body = |total: f64, summary: &mut Summary| -> Result<(Vec<u8>, Vec<bool>)> {
+        let mut w = NffWriter::new(Vec::new());
+        *summary = Summary { bounds: b, notes: std::mem::take(&mut summary.notes), ..Default::default() };
+        let emitting = write_faces(mesh, o, &pos, (&emission, total), &mut w, summary)?;
+        Ok((w.into_inner(), emitting))
+    };
+    let (mut faces, emitting) = body(1.0, &mut summary)?;
     let mut w = NffWriter::new(out);
     w.comment("written by nffkit mesh2nff")?;
     if o.view {
-        let (view, lights) = stage(mesh, o, place, &pos, b, &body, &mut summary)?;
+        let staged = stage(mesh, o, place, b, &emission, (&faces, &emitting), &mut summary)?;
+        if staged.emission_total != 1.0 {
+            // The emitting faces' look depends on their lights' strength.
+            faces = body(staged.emission_total, &mut summary)?.0;
+        }
+        summary.emission_lights = if emission.is_empty() { 0 } else { emission.lights(1.0).len() };
         w.background(nffkit_formats::SPD_SKY)?;
-        w.view(&view)?;
-        for l in &lights {
+        w.view(&staged.view)?;
+        for l in &staged.lights {
             w.light(l)?;
         }
     }
     let mut out = w.into_inner();
-    out.write_all(&body)?;
+    out.write_all(&faces)?;
     Ok((out, summary))
 }
 
@@ -264,56 +275,88 @@ fn chosen_camera<'m>(mesh: &'m Mesh, o: &Options) -> Result<Option<(usize, &'m M
     }
 }
 
-/// Choose the view and the lights (module doc).
+/// The view and lights chosen, and the strength (brightest channel, all
+/// together) of the lights from emitting faces among them.
+struct Staged {
+    view: View,
+    lights: Vec<Light>,
+    emission_total: f64,
+}
+
+/// The share of the light on what the camera sees above which the emitting
+/// faces light the model alone: a tenth, where they visibly light it on
+/// their own (a Cornell box's ceiling panel gives its walls a sixth of what
+/// framing lights shining in through its open side would; a label on a
+/// model, well under 1%).
+const EMISSION_ALONE: f64 = 0.1;
+
+/// The least strength of emission lights kept beside framing lights, so an
+/// emitting face still has lights of its own to show its colour by.
+const EMISSION_LEAST: f64 = 0.02;
+
+/// Choose the view and the lights (module doc). `body` is the written
+/// geometry and, per `f` line, whether emitting faces use it.
 fn stage(
     mesh: &Mesh,
     o: &Options,
     place: Placement,
-    pos: &[DVec3],
     b: (DVec3, DVec3),
-    body: &[u8],
+    emission: &emission::Emission,
+    body: (&[u8], &[bool]),
     summary: &mut Summary,
-) -> Result<(View, Vec<Light>)> {
-    let emission = emission::lights(mesh, pos, o.scale < 0.0, b);
-    summary.emission_lights = emission.len();
+) -> Result<Staged> {
     let centre = (b.0 + b.1) * 0.5;
     let camera = chosen_camera(mesh, o)?;
-    let needs_probe = o.lights == Lights::Auto || (camera.is_none() && !emission.is_empty());
+    let punctual = punctual::lights(mesh, |p| place.apply(p), b);
+    if let Some(note) = punctual::note(mesh) {
+        summary.notes.push(note);
+    }
+    let needs_probe = o.lights == Lights::Auto || !emission.is_empty();
     let mut probe = if needs_probe {
-        Some(probe::Probe::new(body, &framing_view(b, o).0).context("test renders for the view")?)
+        Some(probe::Probe::new(body.0, &framing_view(b, o).0, body.1).context("test renders for the view")?)
     } else {
         None
     };
-    let (view, framing_lights) = match camera {
+    // The views to choose from, each with its framing lights: the file's
+    // camera, else framing views (several when the model lights itself).
+    let candidates: Vec<(View, Vec<Light>)> = match camera {
         Some((i, cam)) => {
             let v = view::camera_view(cam, o, |p| place.apply(p), place.scale, centre);
             let name = cam.name.as_deref().map(|n| format!(" `{n}`")).unwrap_or_default();
             summary.notes.push(format!("view from the model's camera {i}{name}"));
             let (_, lights) = view::framing(b, o, (v.from - v.at).normalize_or(DVec3::Z));
-            (v, lights)
+            vec![(v, lights)]
         }
-        None => match (&mut probe, emission.is_empty()) {
-            (Some(p), false) => brightest_framing(p, b, o, &emission, summary),
-            _ => framing_view(b, o),
-        },
+        None if !emission.is_empty() => {
+            view::candidate_directions(o.up).into_iter().map(|d| view::framing(b, o, d)).collect()
+        }
+        None => vec![framing_view(b, o)],
     };
-    // The model's own lights, from emitting faces and from the file.
-    let mut own = emission.clone();
-    own.extend(punctual::lights(mesh, |p| place.apply(p), b));
-    if let Some(note) = punctual::note(mesh) {
-        summary.notes.push(note);
+    let (mut staged, framing_lights) = match &mut probe {
+        Some(p) if !emission.is_empty() => {
+            lit_by_emission(p, candidates, o, emission, !punctual.is_empty(), summary)
+        }
+        _ => {
+            let (view, lights) = candidates.into_iter().next().expect("one view at least");
+            (Staged { view, lights: Vec::new(), emission_total: 1.0 }, lights)
+        }
+    };
+    if !emission.is_empty() {
+        staged.lights = emission.lights(staged.emission_total);
     }
-    let has_own = !own.is_empty();
-    let mut lights = match o.lights {
-        Lights::Auto if own.is_empty() => framing_lights,
-        _ => own,
-    };
+    let has_own = !staged.lights.is_empty() || !punctual.is_empty();
+    staged.lights.extend(punctual);
+    if o.lights == Lights::Auto && (!has_own || staged.emission_total != 1.0) {
+        staged.lights.splice(0..0, framing_lights);
+    }
     let eye = match (o.lights, &mut probe) {
         (Lights::Eye, _) => Some("--lights eye".to_string()),
         (Lights::None, _) => None,
-        (Lights::Auto, _) if view::inside(&view, b) => Some("the eye is inside the model's box".into()),
+        (Lights::Auto, _) if view::inside(&staged.view, b) => {
+            Some("the eye is inside the model's box".into())
+        }
         (Lights::Auto, Some(p)) => {
-            let seen = p.look(&view, &lights);
+            let seen = p.look(&staged.view, &staged.lights);
             (seen.covered > 0.0 && seen.lit < 0.5).then(|| {
                 format!("only {:.0}% of what the camera sees is lit by the other lights", seen.lit * 100.0)
             })
@@ -321,60 +364,134 @@ fn stage(
         (Lights::Auto, None) => None,
     };
     if let Some(why) = eye {
-        // Beside coloured emission lights (which total 1) a half-strength
-        // white fill; alone or beside framing lights, the SPD's 1/sqrt(n).
+        // Beside coloured lights of the model's own a half-strength white
+        // fill; alone or beside framing lights, the SPD's 1/sqrt(n).
         let color = has_own.then_some(DVec3::splat(0.5));
-        lights.push(view::eye_light(&view, color));
+        staged.lights.push(view::eye_light(&staged.view, color));
         summary.notes.push(format!("a light at the eye: {why}"));
     }
-    if !emission.is_empty() {
-        summary.notes.push(format!("{} light{} from emitting faces", emission.len(), plural(emission.len())));
-    }
-    Ok((view, lights))
+    colour_plain_lights(&mut staged.lights);
+    Ok(staged)
 }
 
-/// The framing view, among the candidate directions, in which the model's
-/// own lights show the most (the default unless another is 10% brighter).
-fn brightest_framing(
+/// Beside coloured lights, give the lights without a colour the intensity
+/// they would have among themselves (the renderer's 1/sqrt(n), where n
+/// would otherwise count the coloured ones too).
+fn colour_plain_lights(lights: &mut [Light]) {
+    let plain = lights.iter().filter(|l| l.color.is_none()).count();
+    if plain == lights.len() {
+        return;
+    }
+    let each = DVec3::splat(1.0 / (plain as f64).sqrt());
+    for l in lights.iter_mut().filter(|l| l.color.is_none()) {
+        l.color = Some(each);
+    }
+}
+
+/// For a model with emitting faces: the view among `candidates` and how
+/// strong the emission lights are. Unless `--lights` says otherwise or
+/// the file has lights of its own, the emitting faces light the model
+/// alone where, from some candidate view, they give more than
+/// [`EMISSION_ALONE`] of the light on what it sees, and the view is the
+/// one they show best in (the first unless another is 10% brighter);
+/// otherwise the first view keeps its framing lights and the emission
+/// lights get the strength that gives its surfaces what the emitters
+/// would. Returns the framing lights of the view chosen beside.
+fn lit_by_emission(
     probe: &mut probe::Probe,
-    b: (DVec3, DVec3),
+    candidates: Vec<(View, Vec<Light>)>,
     o: &Options,
-    emission: &[Light],
+    emission: &emission::Emission,
+    has_punctual: bool,
     summary: &mut Summary,
-) -> (View, Vec<Light>) {
-    let candidates = view::candidate_directions(o.up);
-    let score =
-        |probe: &mut probe::Probe, d: DVec3| probe.look(&view::framing(b, o, d).0, emission).brightness;
-    let default = score(probe, candidates[0]);
-    let (mut best, mut best_score) = (candidates[0], default);
-    for &d in &candidates[1..] {
-        let s = score(probe, d);
-        if s > best_score && s > default * 1.1 {
-            (best, best_score) = (d, s);
+) -> (Staged, Vec<Light>) {
+    let weighed: Vec<probe::Weighing> = candidates.iter().map(|(v, l)| probe.weigh(v, emission, l)).collect();
+    let alone = o.lights != Lights::Auto || has_punctual || weighed.iter().any(|w| w.share > EMISSION_ALONE);
+    let n = emission.lights(1.0).len();
+    let what = format!("{n} light{} from emitting faces", plural(n));
+    let (pick, total) = if alone {
+        let mut best = 0;
+        for (k, w) in weighed.iter().enumerate().skip(1) {
+            if w.brightness > weighed[best].brightness && w.brightness > weighed[0].brightness * 1.1 {
+                best = k;
+            }
         }
-    }
-    if best != candidates[0] {
+        if best != 0 {
+            let d = (candidates[best].0.from - candidates[best].0.at).normalize();
+            summary.notes.push(format!(
+                "view from direction ({:.2}, {:.2}, {:.2}), where the model's own lights show best",
+                d.x, d.y, d.z
+            ));
+        }
+        if o.lights == Lights::Auto && !has_punctual {
+            let share = weighed.iter().map(|w| w.share).fold(0.0, f64::max);
+            summary.notes.push(format!(
+                "{what}, alone: they give {:.0}% of the light on what the camera sees",
+                share * 100.0
+            ));
+        } else {
+            summary.notes.push(what);
+        }
+        (best, 1.0)
+    } else {
+        let w = weighed[0];
+        let total = w.total.clamp(EMISSION_LEAST, 1.0);
         summary.notes.push(format!(
-            "view from direction ({:.2}, {:.2}, {:.2}), where the model's own lights show best",
-            best.x, best.y, best.z
+            "{what}, at strength {total:.3} beside the framing lights: they give {:.0}% of the light on what \
+             the camera sees",
+            w.share * 100.0
         ));
-    }
-    view::framing(b, o, best)
+        (0, total)
+    };
+    let (view, framing) = candidates.into_iter().nth(pick).expect("a candidate picked");
+    (Staged { view, lights: Vec::new(), emission_total: total }, framing)
 }
 
-/// The colour key of a face: its own colour (an emitting face shows its
-/// emitted colour at full strength), quantised; `None` for the material's.
-fn color_key(f: &Face) -> Option<[u16; 3]> {
-    let c = match (f.emission, f.color) {
+/// A face's colour quantised and, for an emitting face, its Kd's bits.
+type ColorKey = (Option<[u16; 3]>, Option<u64>);
+
+/// The ratio of neighbouring Kd values of emitting faces.
+const KD_STEP: f64 = 1.05;
+
+/// The colour key of a face: its own colour, quantised, and for an
+/// emitting face the Kd (in [`KD_STEP`]s, as bits) that shows its emission under
+/// emission lights of strength `total` ([`emission::Emission::face_look`]);
+/// `None` for the material's.
+fn color_key(mesh: &Mesh, f: &Face, verts: &[DVec3], mirrored: bool, lights: &[(DVec3, DVec3)]) -> ColorKey {
+    let q = |x: f64| (x.clamp(0.0, 1.0) * COLOR_STEPS).round() as u16;
+    let quantised = |c: DVec3| Some([q(c.x), q(c.y), q(c.z)]);
+    match (f.emission, f.color) {
         (Some(e), _) => {
             let e = DVec3::from_array(e.map(f64::from));
-            e / e.max_element()
+            // A face small beside its distance to the lights is lit alike
+            // all over: its centre tells. Otherwise the centre, the
+            // corners, the edges' midpoints and the points halfway to them.
+            let centre = verts.iter().sum::<DVec3>() / verts.len() as f64;
+            let size = verts.iter().map(|v| v.distance_squared(centre)).fold(0.0, f64::max).sqrt();
+            let near = lights.iter().map(|(p, _)| p.distance_squared(centre)).fold(f64::INFINITY, f64::min);
+            let at: Vec<DVec3> = if size * size < 0.01 * near {
+                vec![centre]
+            } else {
+                let edges = (0..verts.len()).map(|i| (verts[i] + verts[(i + 1) % verts.len()]) * 0.5);
+                std::iter::once(centre)
+                    .chain(verts.iter().copied().chain(edges).flat_map(|v| [v, (v + centre) * 0.5]))
+                    .collect()
+            };
+            let look = emission::emitting_normal(mesh, f, verts, mirrored)
+                .and_then(|n| emission::Emission::face_look(e, &at, n, lights));
+            match look {
+                Some((c, kd)) => {
+                    // Kd in steps of 5%: faces lit alike share an `f` line.
+                    let step = (kd.ln() / KD_STEP.ln()).round();
+                    let kd = KD_STEP.powf(step);
+                    (quantised(c), Some(kd.to_bits()))
+                }
+                None => (quantised(e), None),
+            }
         }
-        (None, Some(c)) => DVec3::from_array(c.map(f64::from)),
-        (None, None) => return None,
-    };
-    let q = |x: f64| (x.clamp(0.0, 1.0) * COLOR_STEPS).round() as u16;
-    Some([q(c.x), q(c.y), q(c.z)])
+        (None, Some(c)) => (quantised(DVec3::from_array(c.map(f64::from))), None),
+        (None, None) => (None, None),
+    }
 }
 
 /// Materials and faces, grouped by material (in file order within one),
@@ -383,26 +500,41 @@ fn write_faces<W: Write>(
     mesh: &Mesh,
     o: &Options,
     pos: &[DVec3],
+    (emission, total): (&emission::Emission, f64),
     w: &mut NffWriter<W>,
     summary: &mut Summary,
-) -> Result<()> {
+) -> Result<Vec<bool>> {
     let smooth = (o.smooth && !o.flat).then(|| smooth_normals(mesh, pos));
-    let mut current = None;
+    let lights: Vec<(DVec3, DVec3)> = if emission.is_empty() {
+        Vec::new()
+    } else {
+        emission.lights(total).iter().map(|l| (l.position, l.color.unwrap_or_default())).collect()
+    };
+    // Emitting faces' keys come first, so faces lit alike can be written
+    // together under one `f` line.
     let mut verts = Vec::new();
-    let mut norms = Vec::new();
-    let mut order: Vec<&Face> = mesh.faces.iter().collect();
-    order.sort_by_key(|f| f.material);
-    for f in order {
-        let key = (f.material, color_key(f));
-        if current != Some(key) {
-            let mut m: Material = mesh.materials[f.material as usize].clone();
-            if let Some(c) = key.1 {
-                m.color = DVec3::from_array(c.map(|x| x as f64 / COLOR_STEPS));
+    let emitter_keys: Vec<Option<ColorKey>> = if lights.is_empty() {
+        Vec::new()
+    } else {
+        let mirrored = o.scale < 0.0;
+        let key = |f: &Face, verts: &mut Vec<DVec3>| {
+            f.emission?;
+            verts.clear();
+            verts.extend(mesh.corners_of(f).iter().map(|c| pos[c.position as usize]));
+            if mirrored {
+                verts.reverse();
             }
-            w.material(&m)?;
-            summary.materials += 1;
-            current = Some(key);
-        }
+            Some(color_key(mesh, f, verts, mirrored, &lights))
+        };
+        mesh.faces.iter().map(|f| key(f, &mut verts)).collect()
+    };
+    let mut emitting = Vec::new();
+    let mut current = None;
+    let mut norms = Vec::new();
+    let mut order: Vec<usize> = (0..mesh.faces.len()).collect();
+    order.sort_by_key(|&i| (mesh.faces[i].material, emitter_keys.get(i).copied().flatten()));
+    for i in order {
+        let f = &mesh.faces[i];
         let corners = mesh.corners_of(f);
         verts.clear();
         norms.clear();
@@ -429,6 +561,24 @@ fn write_faces<W: Write>(
             summary.degenerate += 1;
             continue;
         }
+        let look = match emitter_keys.get(i) {
+            Some(Some(k)) => *k,
+            _ => color_key(mesh, f, &verts, o.scale < 0.0, &lights),
+        };
+        let key = (f.material, f.emission.is_some(), look);
+        if current != Some(key) {
+            let mut m: Material = mesh.materials[f.material as usize].clone();
+            if let Some(c) = key.2 .0 {
+                m.color = DVec3::from_array(c.map(|x| x as f64 / COLOR_STEPS));
+            }
+            if let Some(kd) = key.2 .1 {
+                m.kd = f64::from_bits(kd);
+            }
+            w.material(&m)?;
+            summary.materials += 1;
+            emitting.push(key.1);
+            current = Some(key);
+        }
         if verts.len() == 3 || planar_convex(&verts) {
             emit(w, &verts, with_normals.then_some(&norms[..]), summary)?;
         } else {
@@ -440,7 +590,7 @@ fn write_faces<W: Write>(
             }
         }
     }
-    Ok(())
+    Ok(emitting)
 }
 
 fn emit<W: Write>(
