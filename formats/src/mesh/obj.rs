@@ -179,24 +179,37 @@ fn bad_vertex_index(text: &str) -> Option<String> {
 /// For tobj's errors, which carry no position: the first line that cannot be
 /// read as the failing kind of statement.
 fn locate(text: &str, e: &tobj::LoadError) -> Option<String> {
-    let keyword = match e {
-        tobj::LoadError::PositionParseError => "v",
-        tobj::LoadError::NormalParseError => "vn",
-        tobj::LoadError::TexcoordParseError => "vt",
-        tobj::LoadError::FaceParseError => "f",
+    // The keyword and how many numbers tobj needs after it.
+    let (keyword, least) = match e {
+        tobj::LoadError::PositionParseError => ("v", 3),
+        tobj::LoadError::NormalParseError => ("vn", 3),
+        tobj::LoadError::TexcoordParseError => ("vt", 2),
+        tobj::LoadError::FaceParseError => ("f", 3),
         _ => return None,
     };
     text.lines().enumerate().find_map(|(i, line)| {
-        let mut words = line.split_whitespace();
-        if words.next() != Some(keyword) {
+        let rest = line.trim_start().strip_prefix(keyword)?;
+        if !rest.starts_with(char::is_whitespace) && !rest.is_empty() {
             return None;
         }
-        let ok = if keyword == "f" {
-            words.all(|w| w.split('/').all(|p| p.is_empty() || p.parse::<i64>().is_ok()))
-        } else {
-            words.all(|w| w.parse::<f64>().is_ok())
+        let ok = |w: &str| {
+            if keyword == "f" {
+                w.split('/').all(|p| p.is_empty() || p.parse::<i64>().is_ok())
+            } else {
+                w.parse::<f64>().is_ok()
+            }
         };
-        (!ok).then(|| format!("line {}: `{}`", i + 1, line.trim()))
+        let words: Vec<&str> = rest.split_whitespace().take_while(|w| !w.starts_with('#')).collect();
+        let shown = line.trim();
+        if let Some(bad) = words.iter().find(|w| !ok(w)) {
+            // The column of the word, counting from 1 in characters.
+            let offset = bad.as_ptr() as usize - line.as_ptr() as usize;
+            let column = line[..offset].chars().count() + 1;
+            return Some(format!("line {}, column {column}: `{bad}` is not a number in `{shown}`", i + 1));
+        }
+        (words.len() < least).then(|| {
+            format!("line {}: `{shown}` has {} numbers, `{keyword}` needs {least}", i + 1, words.len())
+        })
     })
 }
 

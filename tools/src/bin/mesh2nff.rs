@@ -4,7 +4,7 @@ use anyhow::{Context, Result};
 use clap::{Parser, ValueEnum};
 use nffkit_formats::mesh::ImportOptions;
 use nffkit_tools::cli_util;
-use nffkit_tools::mesh2nff::{write, Lights, Options, Up};
+use nffkit_tools::mesh2nff::{convert, Lights, Options, Up};
 use nffkit_tools::outputs::Outputs;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -174,14 +174,11 @@ fn run(a: &Args) -> Result<()> {
             if mesh.cameras.len() == 1 { "" } else { "s" }
         );
     }
-    nffkit_tools::mesh2nff::check(&mesh).with_context(|| format!("cannot convert {name}"))?;
-    let mut summary = None;
-    cli_util::write_output(a.output.as_deref(), |w| {
-        let (_, s) = write(&mesh, &opts, w).map_err(std::io::Error::other)?;
-        summary = Some(s);
-        Ok(())
-    })?;
-    if let (false, Some(s)) = (a.quiet, summary) {
+    // Everything but writing first: a conversion error is not a write error.
+    let converted = convert(&mesh, &opts).with_context(|| format!("cannot convert {name}"))?;
+    cli_util::write_output(a.output.as_deref(), |w| converted.write_to(w))?;
+    if !a.quiet {
+        let s = &converted.summary;
         for note in &s.notes {
             nffkit_tools::eprintln_safe!("mesh2nff: {note}");
         }

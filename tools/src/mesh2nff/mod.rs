@@ -222,9 +222,34 @@ pub fn check(mesh: &Mesh) -> Result<()> {
     Ok(())
 }
 
-/// Write the mesh as NFF to `out`: a header (background, view, lights)
-/// unless `--no-view`, then materials and faces.
-pub fn write<W: Write>(mesh: &Mesh, o: &Options, out: W) -> Result<(W, Summary)> {
+/// A converted mesh: the NFF text, ready to write, and what was done.
+pub struct Converted {
+    /// The comment, background, view and lights.
+    header: Vec<u8>,
+    /// Materials and faces.
+    body: Vec<u8>,
+    /// What the conversion did.
+    pub summary: Summary,
+}
+
+impl Converted {
+    /// Write the NFF text to `out`: nothing but I/O can fail here.
+    pub fn write_to<W: Write + ?Sized>(&self, out: &mut W) -> std::io::Result<()> {
+        out.write_all(&self.header)?;
+        out.write_all(&self.body)
+    }
+}
+
+/// Write the mesh as NFF to `out` ([`convert`], then [`Converted::write_to`]).
+pub fn write<W: Write>(mesh: &Mesh, o: &Options, mut out: W) -> Result<(W, Summary)> {
+    let converted = convert(mesh, o)?;
+    converted.write_to(&mut out)?;
+    Ok((out, converted.summary))
+}
+
+/// Convert the mesh to NFF: a header (background, view, lights) unless
+/// `--no-view`, then materials and faces.
+pub fn convert(mesh: &Mesh, o: &Options) -> Result<Converted> {
     check(mesh)?;
     let place = Placement::of(mesh, o);
     let pos = place.positions(mesh);
@@ -239,7 +264,7 @@ pub fn write<W: Write>(mesh: &Mesh, o: &Options, out: W) -> Result<(W, Summary)>
         Ok((w.into_inner(), emitting))
     };
     let (mut faces, emitting) = body(1.0, &mut summary)?;
-    let mut w = NffWriter::new(out);
+    let mut w = NffWriter::new(Vec::new());
     w.comment("written by nffkit mesh2nff")?;
     if o.view {
         let staged = stage(mesh, o, place, b, &emission, (&faces, &emitting), &mut summary)?;
@@ -254,9 +279,7 @@ pub fn write<W: Write>(mesh: &Mesh, o: &Options, out: W) -> Result<(W, Summary)>
             w.light(l)?;
         }
     }
-    let mut out = w.into_inner();
-    out.write_all(&faces)?;
-    Ok((out, summary))
+    Ok(Converted { header: w.into_inner(), body: faces, summary })
 }
 
 /// The file camera the view comes from: the one asked for, else the only one.

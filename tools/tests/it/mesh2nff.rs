@@ -312,7 +312,10 @@ fn obj_parse_errors_name_the_line_and_nameless_usemtl_is_tolerated() {
     let dir = tempfile::tempdir().unwrap();
     let p = write_file(dir.path(), "bad.obj", "v 0 0 0\nv 1 0 0\nv 3.1+e2 0 1\nf 1 2 3\n");
     let e = nffkit_formats::mesh::load(&p).unwrap_err().to_string();
-    assert!(e.contains("line 3"), "{e}");
+    assert!(e.contains("line 3, column 3: `3.1+e2` is not a number"), "{e}");
+    let p = write_file(dir.path(), "short.obj", "v 0 0 0\nv 1 0\n");
+    let e = nffkit_formats::mesh::load(&p).unwrap_err().to_string();
+    assert!(e.contains("line 2: `v 1 0` has 2 numbers, `v` needs 3"), "{e}");
     let p = write_file(dir.path(), "blender.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl \nf 1 2 3\n");
     let (scene, _, warnings) = convert(&p, &Options::default());
     assert_eq!(scene.primitives.len(), 1);
@@ -401,6 +404,15 @@ fn obj_messages_name_the_line_and_print_each_error_once() {
     let o = mesh2nff(&["missing.obj"], dir.path(), None);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(err.matches("No such file").count(), 1, "{err}");
+    // Every part of the error's chain is printed, joined by colons.
+    write_file(dir.path(), "tab.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x3\n");
+    let o = mesh2nff(&["tab.obj", "-o", "out.nff"], dir.path(), None);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("error: cannot convert: tab.obj: not a readable OBJ file: face parse error at line 4, column 7: `x3`"),
+        "{err}"
+    );
+    assert!(!dir.path().join("out.nff").exists());
 }
 
 #[test]
