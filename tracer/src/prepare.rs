@@ -8,7 +8,7 @@ use crate::light::PointLight;
 use crate::material::WhittedMaterial;
 use crate::stats::PerKind;
 use glam::{DVec3, Vec3A};
-use nffkit_formats::polygon::triangulate;
+use nffkit_formats::polygon::{drop_repeats, triangulate};
 use nffkit_formats::scene::MAX_COORDINATE;
 use nffkit_formats::{Scene, Shape};
 use strum::EnumCount;
@@ -207,6 +207,16 @@ const BOX_FACES: [[usize; 4]; 6] =
 
 /// Flatten the file's primitives into typed arrays, numbered in [`Kind`]
 /// order. Boxes become twelve triangles.
+/// The triangles of a polygon, each place once (an outline that runs
+/// over itself repeats them; a small one's repeats cost little).
+fn triangles_of(vertices: &[DVec3]) -> Vec<[u32; 3]> {
+    let mut t = triangulate(vertices);
+    if vertices.len() > 16 {
+        drop_repeats(vertices, &mut t);
+    }
+    t
+}
+
 pub(crate) fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_sided: bool) -> Geometry {
     let mut g = Geometry::default();
     // Sized up front, so that a large scene's arrays are not copied as they
@@ -258,13 +268,13 @@ pub(crate) fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_s
                 info[Kind::Cone as usize].push(record(cull(*base_radius < 0.0 || *apex_radius < 0.0), None));
             }
             Shape::Polygon { vertices } => {
-                for t in triangulate(vertices) {
+                for t in triangles_of(vertices) {
                     g.triangles.push(Triangle { v: t.map(|i| v3(vertices[i as usize])) });
                     info[Kind::Triangle as usize].push(record(cull(false), None));
                 }
             }
             Shape::Patch { vertices, normals } => {
-                for t in triangulate(vertices) {
+                for t in triangles_of(vertices) {
                     g.triangles.push(Triangle { v: t.map(|i| v3(vertices[i as usize])) });
                     let n = t.map(|i| v3(normals[i as usize]).normalize_or_zero());
                     info[Kind::Triangle as usize]

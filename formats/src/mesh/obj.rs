@@ -65,13 +65,27 @@ fn colored_vertex(words: &[&str]) -> Option<([u64; 3], DVec3)> {
 /// line; a vertex's fourth number (w, for rational curves) is dropped, as
 /// tinyobjloader and assimp do for polygons. Whether each face (of three
 /// corners or more, in file order) names normals goes to `face_normals`:
-/// tobj gives a face without them another face's. Lines stay in place (as
+/// tobj gives a face without them another face's; `faces` counts the
+/// triangles they make and finds the largest. Lines stay in place (as
 /// blanks) so line numbers in later messages are the file's.
+/// The most corners one face may have.
+pub const MAX_FACE_CORNERS: usize = 1 << 20;
+
+/// What [`sanitize`] counts of the faces.
+#[derive(Debug, Default)]
+struct FaceCounts {
+    /// Triangles the faces make, corners − 2 each.
+    triangles: u64,
+    /// The most corners of a face, and its line.
+    largest: (usize, usize),
+}
+
 fn sanitize(
     text: &str,
     warnings: &mut Vec<String>,
     colors: &mut VertexColors,
     face_normals: &mut Vec<bool>,
+    faces: &mut FaceCounts,
 ) -> String {
     let mut out = String::with_capacity(text.len());
     let (mut lines, mut points, mut bad_colors) = (0, 0, 0);
@@ -124,6 +138,10 @@ fn sanitize(
                 }
                 if corners >= 3 {
                     face_normals.push(with_normals == corners);
+                    faces.triangles += corners as u64 - 2;
+                    if corners > faces.largest.0 {
+                        faces.largest = (corners, start + 1);
+                    }
                 }
                 out.push_str(&line);
             }
@@ -234,7 +252,28 @@ pub fn load_bytes(bytes: &[u8], name: &Path, dir: &Path, opts: &ImportOptions) -
     let mut warnings = Vec::new();
     let mut colors = VertexColors::new();
     let mut face_normals = Vec::new();
-    let text = sanitize(&String::from_utf8_lossy(bytes), &mut warnings, &mut colors, &mut face_normals);
+    let mut faces = FaceCounts::default();
+    let text =
+        sanitize(&String::from_utf8_lossy(bytes), &mut warnings, &mut colors, &mut face_normals, &mut faces);
+    if faces.triangles > opts.max_triangles {
+        return Err(MeshError::invalid(
+            path,
+            format!(
+                "the faces make {} triangles, more than {} (--max-triangles raises the bound)",
+                faces.triangles, opts.max_triangles
+            ),
+        ));
+    }
+    if faces.largest.0 > MAX_FACE_CORNERS {
+        return Err(MeshError::invalid(
+            path,
+            format!(
+                "line {}: a face of {} corners; at most {MAX_FACE_CORNERS} are read (a real model's largest \
+                 faces have thousands)",
+                faces.largest.1, faces.largest.0
+            ),
+        ));
+    }
     let mtl_warning = std::cell::RefCell::new(Vec::<String>::new());
     // Textures are named relative to their library's folder.
     let mtl_dir = std::cell::RefCell::new(dir.to_path_buf());

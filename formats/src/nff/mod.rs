@@ -17,6 +17,6 @@ mod read;
 mod write;
 
 pub use diag::{escape, Diagnostic, Report, Severity, SHOWN_PER_KIND};
-pub use parse::{parse_sequential, ParseError, ParseOptions, Parsed};
+pub use parse::{parse_sequential, ParseError, ParseOptions, Parsed, MAX_VERTICES};
 pub use read::{parse, parse_chunked};
 pub use write::{format_number, write, NffWriter};

@@ -4,7 +4,7 @@
 mod monotone;
 mod triangulate;
 
-pub use triangulate::triangulate;
+pub use triangulate::{drop_repeats, triangulate};
 
 use glam::{DVec2, DVec3};
 

@@ -35,6 +35,11 @@ pub(super) fn triangulate(pts: &[DVec2], idx: &[u32], work: &mut u64) -> Option<
     sound.then(|| out.into_iter().map(|t| t.map(|k| k as u32)).collect())
 }
 
+/// Status entries the sweep may look at per vertex, and in all besides,
+/// before it gives up ([`Sweep::over_budget`]).
+const SCAN_BUDGET_PER_VERTEX: u64 = 256;
+const SCAN_BUDGET: u64 = 1 << 24;
+
 /// Whether `a` comes before `b` in the sweep: higher, or as high and to
 /// the left (so no two vertices are at the same height, in effect).
 fn above(a: DVec2, b: DVec2) -> bool {
@@ -99,8 +104,17 @@ impl<'a> Sweep<'a> {
         best.map(|(slot, _)| slot)
     }
 
-    fn slot_of(&self, e: usize) -> Option<usize> {
+    fn slot_of(&mut self, e: usize) -> Option<usize> {
+        self.scanned += self.status.len() as u64;
         self.status.iter().position(|&(edge, _)| edge == e)
+    }
+
+    /// Whether the sweep has looked at more status entries than a simple
+    /// outline needs: the status is a list, fine while few edges cross
+    /// the sweep line; an outline that doubles back on itself millions of
+    /// times would make the sweep quadratic, and is left to the caller.
+    fn over_budget(&self) -> bool {
+        self.scanned > SCAN_BUDGET_PER_VERTEX * self.p.len() as u64 + SCAN_BUDGET
     }
 
     /// Remove edge `e`, first joining `v` to its helper if that is a merge
@@ -132,6 +146,9 @@ impl<'a> Sweep<'a> {
         let mut order: Vec<usize> = (0..n).collect();
         order.sort_by(|&a, &b| sweep_order(self.p[a], self.p[b]));
         for v in order {
+            if self.over_budget() {
+                return None;
+            }
             let (a, b) = (self.prev(v), self.next(v));
             let (q, pa, pb) = (self.p[v], self.p[a], self.p[b]);
             let convex = orient(pa, q, pb) > 0.0;

@@ -63,6 +63,24 @@ pub(crate) fn triangulate_counting(v: &[DVec3], work: &mut u64) -> Vec<[u32; 3]>
     out
 }
 
+/// Leave out of `triangles` (of the polygon `v`) each triangle with the
+/// same three corner positions as one before it, returning how many went:
+/// an outline that runs over itself repeats triangles, and a million
+/// copies of one triangle would make every ray through it test them all.
+pub fn drop_repeats(v: &[DVec3], triangles: &mut Vec<[u32; 3]>) -> usize {
+    if triangles.len() < 2 {
+        return 0;
+    }
+    let before = triangles.len();
+    let mut seen = std::collections::HashSet::with_capacity(before);
+    triangles.retain(|t| {
+        let mut key = t.map(|i| v[i as usize].to_array().map(f64::to_bits));
+        key.sort_unstable();
+        seen.insert(key)
+    });
+    before - triangles.len()
+}
+
 /// Ear clipping, each ear searched from the outline's start (the first
 /// ear found is clipped); whatever is left (a triangle, or a knot with no
 /// ears) becomes a fan.
@@ -279,6 +297,20 @@ fn is_ear(p: &[DVec2], idx: &[u32], i: usize) -> bool {
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn an_outline_running_round_twice_keeps_each_triangle_once() {
+        let t = [DVec3::ZERO, DVec3::X, DVec3::Y];
+        let v: Vec<DVec3> = (0..2000).map(|k| t[k % 3]).collect();
+        let mut tris = triangulate(&v);
+        assert!(!tris.is_empty());
+        let dropped = drop_repeats(&v, &mut tris);
+        assert_eq!(tris.len(), 1, "{dropped} dropped");
+        let square = [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
+        let mut tris = triangulate(&square);
+        assert_eq!((drop_repeats(&square, &mut tris), tris.len()), (0, 2));
+    }
+
     use super::*;
 
     fn area3(v: &[DVec3], tris: &[[u32; 3]]) -> (f64, DVec3) {
@@ -358,6 +390,18 @@ mod tests {
             assert!((area - expect).abs() < 1e-9 * expect.max(1.0), "{name}: area {area} vs {expect}");
             assert!(n.z * newell_normal(v).z > 0.0, "{name}: winding kept");
         }
+    }
+
+    #[test]
+    fn an_outline_winding_round_many_times_takes_bounded_work() {
+        // A triangle gone round 100,000 times: the sweep's status fills
+        // with edges (quadratic: 10^10 steps) until its budget stops it.
+        let t = [DVec3::ZERO, DVec3::X, DVec3::Y];
+        let v: Vec<DVec3> = (0..300_000).map(|k| t[k % 3]).collect();
+        let mut work = 0;
+        let tris = triangulate_counting(&v, &mut work);
+        assert!(work < 400 * v.len() as u64, "{work} steps for {} vertices", v.len());
+        assert!(!tris.is_empty());
     }
 
     #[test]

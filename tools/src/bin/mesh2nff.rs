@@ -190,6 +190,14 @@ fn run(a: &Args) -> Result<()> {
             s.triangulated,
             s.degenerate + mesh.dropped_degenerate
         );
+        if s.repeated > 0 {
+            nffkit_tools::eprintln_safe!(
+                "mesh2nff: warning: {name}: {} triangle{} of faces whose outlines run over themselves \
+                 repeated others of the same face and were left out",
+                s.repeated,
+                if s.repeated == 1 { "" } else { "s" }
+            );
+        }
     }
     Ok(())
 }

@@ -22,7 +22,7 @@ use glam::DVec3;
 use nffkit_formats::mesh::{Corner, Face, Mesh, MeshCamera};
 use nffkit_formats::nff::NffWriter;
 use nffkit_formats::polygon::newell_normal;
-use nffkit_formats::polygon::triangulate;
+use nffkit_formats::polygon::{drop_repeats, triangulate};
 use nffkit_formats::{plural, Light, Material, View};
 use std::io::Write;
 
@@ -107,6 +107,9 @@ pub struct Summary {
     pub triangulated: usize,
     /// Faces dropped for having no area.
     pub degenerate: usize,
+    /// Triangles dropped from triangulated faces for repeating another of
+    /// the same face.
+    pub repeated: usize,
     /// `f` lines written.
     pub materials: usize,
     /// Lights made from emitting faces.
@@ -167,7 +170,8 @@ fn smooth_normals(mesh: &Mesh, pos: &[DVec3]) -> Vec<DVec3> {
     n.iter().map(|v| v.normalize_or_zero()).collect()
 }
 
-/// Planar (within 1e-6 of the size) and convex (all turns one way).
+/// Planar (within 1e-6 of the size) and convex (all turns one way, once
+/// round).
 fn planar_convex(v: &[DVec3]) -> bool {
     let n = newell_normal(v);
     let size = bounds(v.iter().copied());
@@ -179,10 +183,19 @@ fn planar_convex(v: &[DVec3]) -> bool {
     if v.iter().any(|p| (*p - v[0]).dot(nh).abs() > 1e-6 * extent) {
         return false;
     }
-    (0..v.len()).all(|i| {
+    // Every turn one way, and the turns adding up to one full turn (an
+    // outline that winds round twice turns one way too).
+    let mut turning = 0.0;
+    for i in 0..v.len() {
         let (a, b, c) = (v[i], v[(i + 1) % v.len()], v[(i + 2) % v.len()]);
-        (b - a).cross(c - b).dot(nh) > 0.0
-    })
+        let (d1, d2) = (b - a, c - b);
+        let sin = d1.cross(d2).dot(nh);
+        if sin <= 0.0 {
+            return false;
+        }
+        turning += sin.atan2(d1.dot(d2));
+    }
+    (turning - std::f64::consts::TAU).abs() < 1e-6
 }
 
 /// The positions of the corners of faces with area, the ones written: a
@@ -602,11 +615,16 @@ fn write_faces<W: Write>(
             emitting.push(key.1);
             current = Some(key);
         }
-        if verts.len() == 3 || planar_convex(&verts) {
+        // NFF polygons have at most MAX_VERTICES corners; larger faces are
+        // cut into triangles.
+        let fits = verts.len() as u64 <= nffkit_formats::nff::MAX_VERTICES;
+        if verts.len() == 3 || (fits && planar_convex(&verts)) {
             emit(w, &verts, with_normals.then_some(&norms[..]), summary)?;
         } else {
             summary.triangulated += 1;
-            for t in triangulate(&verts) {
+            let mut triangles = triangulate(&verts);
+            summary.repeated += drop_repeats(&verts, &mut triangles);
+            for t in triangles {
                 let tv = t.map(|i| verts[i as usize]);
                 let tn = with_normals.then(|| t.map(|i| norms[i as usize]));
                 emit(w, &tv, tn.as_ref().map(|n| &n[..]), summary)?;

@@ -170,3 +170,16 @@ fn a_plane_seen_from_behind_disappears_when_one_sided() {
     assert_ne!(two.get(4, 7), Vec3A::Z);
     assert_eq!(one.get(4, 7), Vec3A::Z);
 }
+
+#[test]
+fn a_polygon_whose_outline_runs_round_many_times_is_one_triangle() {
+    let round: String = (0..3000).map(|k| ["-1 -1 0\n", "1 -1 0\n", "0 1 0\n"][k % 3]).collect();
+    let src = format!("{}l 0 0 10\np 3000\n{round}", view(8));
+    let scene = nff::parse(src.as_bytes(), &ParseOptions::default()).unwrap().scene;
+    let prepared = prepare(&scene, &PrepareOptions::default()).unwrap();
+    let counts = prepared.primitive_counts();
+    assert_eq!(counts.iter().map(|(_, n)| n).sum::<u64>(), 1, "{counts:?}");
+    let once =
+        film(&format!("{}l 0 0 10\np 3\n-1 -1 0\n1 -1 0\n0 1 0\n", view(8)), &PrepareOptions::default());
+    assert_eq!(film(&src, &PrepareOptions::default()).pixels, once.pixels);
+}

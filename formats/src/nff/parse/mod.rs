@@ -214,7 +214,7 @@ pub(super) fn strip_dos_eof(src: &[u8]) -> &[u8] {
 const MAX_ERRORS: usize = 50;
 /// Largest vertex count accepted for one polygon; beyond it the count is an
 /// error before anything is allocated.
-const MAX_VERTICES: u64 = 1 << 24;
+pub const MAX_VERTICES: u64 = 1 << 24;
 /// Largest image side accepted in a `resolution` line.
 const MAX_RESOLUTION: u64 = 1 << 16;
 
