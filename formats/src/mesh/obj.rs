@@ -103,7 +103,11 @@ fn sanitize(
         let first = line.split_whitespace().next();
         let keyword = ["usemtl", "l", "p", "v", "vt", "vn", "f"].into_iter().find(|k| first == Some(*k));
         let data = matches!(keyword, Some("v" | "vt" | "vn" | "f" | "l" | "p"));
-        if let (true, Some(hash)) = (data, line.find('#')) {
+        // A comment starts at a `#` after a space: `1.#IND` (MSVC's NaN)
+        // is a word, not a number followed by a comment.
+        let comment =
+            line.match_indices('#').map(|(i, _)| i).find(|&i| line[..i].ends_with(char::is_whitespace));
+        if let (true, Some(hash)) = (data, comment) {
             line = std::borrow::Cow::Owned(line[..hash].to_string());
         }
         let mut words = line.split_whitespace().skip(1);

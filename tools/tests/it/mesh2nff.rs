@@ -653,6 +653,12 @@ fn obj_is_read_as_the_format_means() {
     let nff =
         out("cont.obj", "v 0 0 0 # origin\nv 1 0 \\\n 0\nv 0 1 0\nf 1 2 3 # the face\n", &["--no-view"]);
     assert!(nff.contains("p 3\n0 0 0\n1 0 0\n0 1 0\n"), "{nff}");
+    // `#` inside a word is not a comment: MSVC's `1.#IND` is named, not
+    // read as `1.` with a comment (which tobj then refused as too short).
+    write_file(dir.path(), "ind.obj", "v 0 0 0\nv 1.#IND 0 0\nv 0 1 0\nf 1 2 3\n");
+    let o = mesh2nff(&["ind.obj"], dir.path(), None);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("line 2, column 3: `1.#IND` is not a number"), "{err}");
     // A degenerate face far away does not move the framing.
     let nff = out("stray.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1000000 0 0\nf 1 2 3\nf 4 4 4\n", &[]);
     let at = nff.lines().find(|l| l.starts_with("at ")).unwrap();
