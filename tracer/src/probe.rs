@@ -6,7 +6,7 @@
 //! would see through them, and lit edge-on it renders black.
 
 use crate::accel::{with_accel, Intersector, Tracer};
-use crate::geometry::Cull;
+use crate::geometry::{Cull, Hit};
 use crate::math::{shadow_ray, RayQuery};
 use crate::prepare::RenderScene;
 use glam::{Vec2, Vec3A};
@@ -46,30 +46,45 @@ pub fn probe_view(scene: &RenderScene, n: u32) -> ViewProbe {
 
 fn probe_with<I: Intersector>(scene: &RenderScene, accel: &I, n: u32) -> ViewProbe {
     let geom = &scene.geometry;
-    let mut tracer = Tracer::new(accel, geom);
-    let (w, h) = scene.camera.resolution();
     let mut probe = ViewProbe::default();
+    for_each_eye_ray(scene, accel, n, |q, hit| {
+        probe.rays += 1;
+        let Some(hit) = hit else { return };
+        probe.hits += 1;
+        let info = &geom.info[hit.prim as usize];
+        let opaque = scene.materials[info.material as usize].t <= 0.0;
+        let back = geom.surface(&hit, q).ng.dot(q.ray.d) > 0.0;
+        if opaque && back && info.cull == Cull::None {
+            probe.back_faces += 1;
+            if info.line > 0 && probe.first_back_face_line.is_none() {
+                probe.first_back_face_line = Some(info.line);
+            }
+        }
+    });
+    probe
+}
+
+/// Trace `n` × `n` pinhole eye rays through the centres of an `n` × `n`
+/// grid of cells over the image, row by row from the top left, handing
+/// each with its nearest hit to `f`.
+fn for_each_eye_ray<I: Intersector>(
+    scene: &RenderScene,
+    accel: &I,
+    n: u32,
+    mut f: impl FnMut(&RayQuery, Option<Hit>),
+) {
+    let mut tracer = Tracer::new(accel, &scene.geometry);
+    let (w, h) = scene.camera.resolution();
     for j in 0..n {
         for i in 0..n {
             let x = (i as f32 + 0.5) / n as f32 * w as f32;
             let y = (j as f32 + 0.5) / n as f32 * h as f32;
             let (ray, t_min) = scene.camera.ray(x, y, Vec2::ZERO);
             let q = RayQuery::new(ray, t_min);
-            probe.rays += 1;
-            let Some(hit) = tracer.nearest(&q, f32::INFINITY) else { continue };
-            probe.hits += 1;
-            let info = &geom.info[hit.prim as usize];
-            let opaque = scene.materials[info.material as usize].t <= 0.0;
-            let back = geom.surface(&hit, &q).ng.dot(ray.d) > 0.0;
-            if opaque && back && info.cull == Cull::None {
-                probe.back_faces += 1;
-                if info.line > 0 && probe.first_back_face_line.is_none() {
-                    probe.first_back_face_line = Some(info.line);
-                }
-            }
+            let hit = tracer.nearest(&q, f32::INFINITY);
+            f(&q, hit);
         }
     }
-    probe
 }
 
 /// A surface point an eye ray sees, for tools that judge a view's lighting
@@ -97,29 +112,21 @@ pub fn sightings(scene: &RenderScene, n: u32) -> Vec<Sighting> {
 
 fn sightings_with<I: Intersector>(scene: &RenderScene, accel: &I, n: u32) -> Vec<Sighting> {
     let geom = &scene.geometry;
-    let mut tracer = Tracer::new(accel, geom);
-    let (w, h) = scene.camera.resolution();
     let mut out = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            let x = (i as f32 + 0.5) / n as f32 * w as f32;
-            let y = (j as f32 + 0.5) / n as f32 * h as f32;
-            let (ray, t_min) = scene.camera.ray(x, y, Vec2::ZERO);
-            let q = RayQuery::new(ray, t_min);
-            let Some(hit) = tracer.nearest(&q, f32::INFINITY) else { continue };
-            let s = geom.surface(&hit, &q);
-            let info = &geom.info[hit.prim as usize];
-            let m = &scene.materials[info.material as usize];
-            let flip = if s.ng.dot(ray.d) < 0.0 { 1.0 } else { -1.0 };
-            out.push(Sighting {
-                point: s.p,
-                normal: s.ns * flip,
-                ng: s.ng * flip,
-                albedo: m.kd * m.color,
-                material: info.material,
-            });
-        }
-    }
+    for_each_eye_ray(scene, accel, n, |q, hit| {
+        let Some(hit) = hit else { return };
+        let s = geom.surface(&hit, q);
+        let info = &geom.info[hit.prim as usize];
+        let m = &scene.materials[info.material as usize];
+        let flip = if s.ng.dot(q.ray.d) < 0.0 { 1.0 } else { -1.0 };
+        out.push(Sighting {
+            point: s.p,
+            normal: s.ns * flip,
+            ng: s.ng * flip,
+            albedo: m.kd * m.color,
+            material: info.material,
+        });
+    });
     out
 }
 

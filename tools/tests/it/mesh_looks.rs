@@ -322,13 +322,7 @@ fn an_emissive_quad_becomes_lights_keeping_the_total_and_shows_its_colour() {
     }
     // It renders in its emission clamped to 1: white (the written colour
     // makes up for the lights' hue), not a dim orange.
-    let film = render(&scene);
-    let background = nffkit_formats::SPD_SKY.as_vec3a();
-    let seen: Vec<Vec3A> = (0..64 * 64)
-        .map(|i| film.get(i % 64, i / 64))
-        .filter(|c| (*c - background).abs().max_element() > 1e-3)
-        .collect();
-    let mean = seen.iter().map(|c| c.min(Vec3A::ONE)).sum::<Vec3A>() / seen.len() as f32;
+    let (_, mean) = model_pixels(&render(&scene));
     assert!(mean.min_element() > 0.75 && mean.max_element() - mean.min_element() < 0.05, "white: {mean}");
 
     // OBJ Ke: the same, through the material library.
@@ -355,6 +349,17 @@ usemtl white\nf 1 5 6 2\nf 4 3 7 8\nf 1 2 3 4\nf 2 6 7 3\n\
 usemtl red\nf 1 4 8 5\n\
 usemtl white\nf 13 14 15 16\n\
 usemtl light\nf 9 10 11 12\n";
+
+/// The pixels that are not the background: how many, and their mean
+/// (each clamped to 1, as an image shows it).
+fn model_pixels(film: &nffkit_tracer::film::Film) -> (usize, Vec3A) {
+    let background = nffkit_formats::SPD_SKY.as_vec3a();
+    let seen: Vec<Vec3A> = (0..film.width * film.height)
+        .map(|i| film.get(i % film.width, i / film.width))
+        .filter(|c| (*c - background).abs().max_element() > 1e-3)
+        .collect();
+    (seen.len(), seen.iter().map(|c| c.min(Vec3A::ONE)).sum::<Vec3A>() / seen.len().max(1) as f32)
+}
 
 fn render(scene: &Scene) -> nffkit_tracer::film::Film {
     let opts =
@@ -417,15 +422,9 @@ fn a_closed_emitter_shines_outward_and_shows_its_emission() {
     for l in &scene.lights[..summary.emission_lights] {
         assert!(l.position.abs().max_element() > 0.5, "outside the cube: {}", l.position);
     }
-    let film = render(&scene);
-    let background = nffkit_formats::SPD_SKY.as_vec3a();
-    let seen: Vec<Vec3A> = (0..64 * 64)
-        .map(|i| film.get(i % 64, i / 64))
-        .filter(|c| (*c - background).abs().max_element() > 1e-3)
-        .collect();
-    let mean = seen.iter().map(|c| c.min(Vec3A::ONE)).sum::<Vec3A>() / seen.len() as f32;
+    let (count, mean) = model_pixels(&render(&scene));
     assert!(
-        seen.len() > 500 && close(mean.as_dvec3(), DVec3::new(0.8, 0.4, 0.2), 0.12),
+        count > 500 && close(mean.as_dvec3(), DVec3::new(0.8, 0.4, 0.2), 0.12),
         "in its emission: {mean}"
     );
     // Beside a floor, the floor around it is lit by it.
@@ -438,7 +437,9 @@ fn a_closed_emitter_shines_outward_and_shows_its_emission() {
     assert!(summary.emission_lights > 0 && scene.lights.len() == summary.emission_lights);
     let film = render(&scene);
     // Below the cube's image, a column of floor: lit, and not sky.
-    let floor = (38..46).map(|y| film.get(32, y)).filter(|c| (*c - background).abs().max_element() > 1e-3);
+    let floor = (38..46)
+        .map(|y| film.get(32, y))
+        .filter(|c| (*c - nffkit_formats::SPD_SKY.as_vec3a()).abs().max_element() > 1e-3);
     let brightest = floor.fold(Vec3A::ZERO, |a, c| a.max(c));
     assert!(brightest.x > 0.05 && brightest.x > brightest.z, "the floor in front is lit: {brightest}");
 }
