@@ -23,3 +23,4 @@ pub mod mesh2nff;
 pub mod outputs;
 pub mod qa;
 pub mod render;
+pub mod spd;

@@ -12,3 +12,4 @@ mod files;
 mod generators;
 mod mesh2nff;
 mod mesh_looks;
+mod spd;

@@ -1,0 +1,84 @@
+//! `spd`: the Standard Procedural Databases as NFF. See `spd --help`.
+
+use anyhow::{bail, Result};
+use clap::Parser;
+use nffkit_tools::cli_util;
+use nffkit_tools::outputs::Outputs;
+use nffkit_tools::spd::{Database, Precision};
+use std::path::PathBuf;
+use std::process::ExitCode;
+use strum::VariantArray;
+
+/// Generate the Standard Procedural Databases as NFF.
+///
+/// Eric Haines' Standard Procedural Databases (1987, CC0) are the scenes
+/// ray tracers are compared on: each program writes one kind of scene at a
+/// chosen size. This writes them as the SPD's C programs do, streamed
+/// (any size in bounded memory), to standard output unless -o:
+///
+///     spd mount --size 7 | render - --spd-stats
+///
+/// With --precision spd every number is written as the C programs write
+/// it (`%g`, six significant digits): the output is theirs byte for byte.
+/// The default writes every digit.
+///
+/// Databases so far: mount and tetra, as the SPD's default curved output
+/// (-c: mount's spheres as spheres; tetra has only triangles); sphereflake
+/// writes balls.
+#[derive(Parser, Debug)]
+#[command(name = "spd", version)]
+struct Args {
+    /// The database.
+    #[arg(required_unless_present = "list")]
+    database: Option<Database>,
+    /// Size (the SPD's -s): how finely the scene is divided [default: the
+    /// database's own, see --list].
+    #[arg(short, long)]
+    size: Option<u32>,
+    /// How numbers are written.
+    #[arg(long, value_enum, default_value_t = Precision::Full)]
+    precision: Precision,
+    /// Output file (default: standard output). Written atomically.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// List the databases, their default sizes and primitive counts.
+    #[arg(long, conflicts_with_all = ["database", "size", "output"])]
+    list: bool,
+}
+
+fn list() {
+    println!("{:<10} {:>8}  primitives at size 1, 2, 3, ... (the default marked *)", "database", "default");
+    for &db in Database::VARIANTS {
+        let counts: Vec<String> = (1..=db.max_size().min(8))
+            .map(|s| format!("{}{}", db.primitives(s), if s == db.default_size() { "*" } else { "" }))
+            .collect();
+        println!("{:<10} {:>8}  {}", db.name(), db.default_size(), counts.join(", "));
+    }
+}
+
+fn run(a: &Args) -> Result<()> {
+    if a.list {
+        list();
+        return Ok(());
+    }
+    let db = a.database.expect("clap requires a database without --list");
+    let size = a.size.unwrap_or(db.default_size());
+    if !(1..=db.max_size()).contains(&size) {
+        bail!(
+            "--size {size}: {} takes sizes 1 to {} (size {} makes {} primitives)",
+            db.name(),
+            db.max_size(),
+            db.max_size(),
+            db.primitives(db.max_size())
+        );
+    }
+    if let Some(o) = &a.output {
+        Outputs::new().file("-o", o)?;
+    }
+    cli_util::write_output(a.output.as_deref(), |w| db.write(size, a.precision, w).map(|_| ()))
+}
+
+fn main() -> ExitCode {
+    let args = Args::parse();
+    cli_util::run_main("spd", || run(&args).map(|_| ExitCode::SUCCESS))
+}

@@ -1,0 +1,195 @@
+//! The SPD library's NFF output (`lib_output_*` in the SPD's libpr*.c and
+//! libply.c), line for line, streamed: each entity goes to the writer as it
+//! is made, so a database of millions of primitives never sits in memory.
+
+use super::number::push_g;
+use glam::DVec3;
+use nffkit_formats::nff::format_number;
+use std::io::{self, Write};
+
+/// How numbers are written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum Precision {
+    /// As the SPD's C programs write them (`%g`: six significant digits),
+    /// byte for byte.
+    Spd,
+    /// Every digit needed to read the same double back.
+    #[default]
+    Full,
+}
+
+/// The SPD's degenerate-edge tolerance (def.h's EPSILON2 off the Mac).
+const EPSILON2: f64 = 1.0e-6;
+
+/// An NFF stream written the SPD library's way.
+pub struct SpdOut<W: Write> {
+    w: W,
+    precision: Precision,
+    line: String,
+    recent: Recent,
+}
+
+/// The text of recently written numbers, by their bits: the databases
+/// repeat values (grid coordinates, shared corners), and an exact decimal
+/// conversion costs far more than a lookup.
+struct Recent {
+    bits: Vec<u64>,
+    text: Vec<[u8; 24]>,
+    len: Vec<u8>,
+}
+
+impl Recent {
+    const SLOTS: usize = 4096;
+
+    fn new() -> Recent {
+        // An empty slot has length 0, which no number's text has.
+        Recent {
+            bits: vec![u64::MAX; Self::SLOTS],
+            text: vec![[0; 24]; Self::SLOTS],
+            len: vec![0; Self::SLOTS],
+        }
+    }
+
+    /// Append `x` in `%g` to `out`, from the table when it is there.
+    fn push(&mut self, out: &mut String, x: f64) {
+        let bits = x.to_bits();
+        let slot = (bits.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 52) as usize % Self::SLOTS;
+        if self.bits[slot] == bits && self.len[slot] > 0 {
+            let text = &self.text[slot][..self.len[slot] as usize];
+            out.push_str(std::str::from_utf8(text).expect("stored from a str"));
+            return;
+        }
+        let start = out.len();
+        push_g(out, x);
+        let text = &out.as_bytes()[start..];
+        if text.len() <= 24 {
+            self.bits[slot] = bits;
+            self.text[slot][..text.len()].copy_from_slice(text);
+            self.len[slot] = text.len() as u8;
+        }
+    }
+}
+
+impl<W: Write> SpdOut<W> {
+    /// Write to `w` with numbers in `precision`.
+    pub fn new(w: W, precision: Precision) -> Self {
+        SpdOut { w, precision, line: String::with_capacity(128), recent: Recent::new() }
+    }
+
+    /// The writer, flushed.
+    pub fn finish(mut self) -> io::Result<W> {
+        self.w.flush()?;
+        Ok(self.w)
+    }
+
+    fn num(&mut self, x: f64) {
+        match self.precision {
+            Precision::Spd => self.recent.push(&mut self.line, x),
+            Precision::Full => self.line.push_str(&format_number(x)),
+        }
+    }
+
+    /// The keyword then the numbers, space separated, and a newline.
+    fn entity(&mut self, keyword: &str, numbers: &[f64]) -> io::Result<()> {
+        self.line.clear();
+        self.line.push_str(keyword);
+        for &x in numbers {
+            self.line.push(' ');
+            self.num(x);
+        }
+        self.line.push('\n');
+        self.w.write_all(self.line.as_bytes())
+    }
+
+    /// `lib_output_background_color`.
+    pub fn background(&mut self, c: DVec3) -> io::Result<()> {
+        self.entity("b", &c.to_array())
+    }
+
+    /// `lib_output_viewpoint` (NFF writes neither the aspect ratio nor
+    /// anything but the resolution's integers).
+    pub fn viewpoint(
+        &mut self,
+        from: DVec3,
+        at: DVec3,
+        up: DVec3,
+        angle: f64,
+        hither: f64,
+        resolution: [u32; 2],
+    ) -> io::Result<()> {
+        self.w.write_all(b"v\n")?;
+        self.entity("from", &from.to_array())?;
+        self.entity("at", &at.to_array())?;
+        self.entity("up", &up.to_array())?;
+        self.entity("angle", &[angle])?;
+        self.entity("hither", &[hither])?;
+        writeln!(self.w, "resolution {} {}", resolution[0], resolution[1])
+    }
+
+    /// `lib_output_light` (NFF: the position only).
+    pub fn light(&mut self, p: DVec3) -> io::Result<()> {
+        self.entity("l", &p.to_array())
+    }
+
+    /// `lib_output_color`: the Phong exponent from the highlight's
+    /// half-angle `ang` in degrees (0: 100000, 90 or more: 1, else
+    /// log(1/2) / log(cos ang)).
+    pub fn color(&mut self, c: DVec3, kd: f64, ks: f64, ang: f64, kt: f64, ior: f64) -> io::Result<()> {
+        let radians = std::f64::consts::PI * ang / 180.0;
+        let phong = if radians <= 0.0 {
+            100000.0
+        } else if radians >= std::f64::consts::PI / 2.0 {
+            1.0
+        } else {
+            0.5f64.ln() / radians.cos().ln()
+        };
+        self.entity("f", &[c.x, c.y, c.z, kd, ks, phong, kt, ior])
+    }
+
+    /// `lib_output_sphere`, curved.
+    pub fn sphere(&mut self, centre: DVec3, radius: f64) -> io::Result<()> {
+        self.entity("s", &[centre.x, centre.y, centre.z, radius])
+    }
+
+    /// `lib_output_cylcone`, curved.
+    pub fn cone(&mut self, base: DVec3, base_radius: f64, apex: DVec3, apex_radius: f64) -> io::Result<()> {
+        self.entity("c", &[base.x, base.y, base.z, base_radius, apex.x, apex.y, apex.z, apex_radius])
+    }
+
+    /// `lib_output_polygon`: adjacent vertices closer than EPSILON2 are
+    /// merged first, and what has fewer than three left is not written.
+    pub fn polygon(&mut self, vertices: &[DVec3]) -> io::Result<()> {
+        let n = vertices.len();
+        if (0..n).all(|i| (vertices[i] - vertices[(i + 1) % n]).length() >= EPSILON2) {
+            return self.write_polygon(vertices);
+        }
+        let mut v: Vec<DVec3> = vertices.to_vec();
+        let mut i = 0;
+        while i < v.len() {
+            if (v[i] - v[(i + 1) % v.len()]).length() < EPSILON2 {
+                v.remove(i);
+            } else {
+                i += 1;
+            }
+        }
+        if v.len() < 3 {
+            return Ok(());
+        }
+        self.write_polygon(&v)
+    }
+
+    fn write_polygon(&mut self, v: &[DVec3]) -> io::Result<()> {
+        writeln!(self.w, "p {}", v.len())?;
+        for p in v {
+            self.line.clear();
+            self.num(p.x);
+            self.line.push(' ');
+            self.num(p.y);
+            self.line.push(' ');
+            self.num(p.z);
+            self.line.push('\n');
+            self.w.write_all(self.line.as_bytes())?;
+        }
+        Ok(())
+    }
+}
