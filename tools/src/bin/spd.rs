@@ -22,9 +22,9 @@ use strum::VariantArray;
 /// it (`%g`, six significant digits): the output is theirs byte for byte.
 /// The default writes every digit.
 ///
-/// Databases so far: mount and tetra, as the SPD's default curved output
-/// (-c: mount's spheres as spheres; tetra has only triangles); sphereflake
-/// writes balls.
+/// Databases so far: balls, gears, lattice, mount, rings, shells,
+/// sombrero, tetra and tree, as the SPD's default curved output (-c:
+/// spheres, cylinders and cones as themselves).
 #[derive(Parser, Debug)]
 #[command(name = "spd", version)]
 struct Args {

@@ -5,11 +5,19 @@
 //! arithmetic step, so that with [`Precision::Spd`] the output is the C
 //! program's byte for byte.
 
+pub mod balls;
+pub mod gears;
+pub mod lattice;
+mod matrix;
 pub mod mount;
 pub mod number;
 pub mod out;
 mod random;
+pub mod rings;
+pub mod shells;
+pub mod sombrero;
 pub mod tetra;
+pub mod tree;
 
 pub use out::{Precision, SpdOut};
 
@@ -18,29 +26,65 @@ use std::io::{self, Write};
 /// A database of the SPD.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, strum::VariantArray)]
 pub enum Database {
+    /// The sphereflake: 91 spheres at size 2, 7381 at 4, on a floor;
+    /// reflection between many spheres (the P3D report's balls_low, medium
+    /// and high are sizes 1, 2 and 4).
+    Balls,
     /// Fractal terrain, 2·4^size small triangles of every orientation,
     /// seen through four glass spheres (refraction; the P3D report's
     /// Table 1 scenes are sizes 1, 5 and 7).
     Mount,
+    /// A block of intermeshing gears, some of glass: concave 144-vertex
+    /// polygons, refraction, reflections between close surfaces.
+    Gears,
+    /// A cubic lattice of spheres joined by cylinders, seen from its edge:
+    /// very many evenly packed objects.
+    Lattice,
+    /// Rings of cylinders and spheres in a pyramid of layers before a
+    /// wall: many cylinders, and their shadows on each other.
+    Rings,
+    /// A spiral shell of about 180·2^size overlapping spheres of fast
+    /// growing size.
+    Shells,
+    /// A height field of a rippled sombrero function: 2(w − 1)² small
+    /// smooth triangles, w = 32·2^(size−1).
+    Sombrero,
     /// A tetrahedral pyramid (Glassner; Kay and Kajiya): 4^size triangles
     /// in mostly empty space, a test of accelerators on sparse scenes.
     Tetra,
+    /// A tree of 2^(size+1) − 1 cone branches and sphere joints on a
+    /// field, under seven lights: long thin cones at every angle.
+    Tree,
 }
 
 impl Database {
     /// The C program's name.
     pub fn name(self) -> &'static str {
         match self {
+            Database::Balls => "balls",
             Database::Mount => "mount",
+            Database::Gears => "gears",
+            Database::Lattice => "lattice",
+            Database::Rings => "rings",
+            Database::Shells => "shells",
+            Database::Sombrero => "sombrero",
             Database::Tetra => "tetra",
+            Database::Tree => "tree",
         }
     }
 
     /// The C program's default size (`-s`).
     pub fn default_size(self) -> u32 {
         match self {
+            Database::Balls => balls::DEFAULT_SIZE,
             Database::Mount => mount::DEFAULT_SIZE,
+            Database::Gears => gears::DEFAULT_SIZE,
+            Database::Lattice => lattice::DEFAULT_SIZE,
+            Database::Rings => rings::DEFAULT_SIZE,
+            Database::Shells => shells::DEFAULT_SIZE,
+            Database::Sombrero => sombrero::DEFAULT_SIZE,
             Database::Tetra => tetra::DEFAULT_SIZE,
+            Database::Tree => tree::DEFAULT_SIZE,
         }
     }
 
@@ -48,8 +92,15 @@ impl Database {
     /// header.
     pub fn primitives(self, size: u32) -> u64 {
         match self {
+            Database::Balls => balls::primitives(size),
             Database::Mount => mount::primitives(size),
+            Database::Gears => gears::primitives(size),
+            Database::Lattice => lattice::primitives(size),
+            Database::Rings => rings::primitives(size),
+            Database::Shells => shells::primitives(size),
+            Database::Sombrero => sombrero::primitives(size),
             Database::Tetra => tetra::primitives(size),
+            Database::Tree => tree::primitives(size),
         }
     }
 
@@ -63,8 +114,15 @@ impl Database {
     pub fn write<W: Write>(self, size: u32, precision: Precision, w: W) -> io::Result<W> {
         let mut out = SpdOut::new(w, precision);
         match self {
+            Database::Balls => balls::write(&mut out, size)?,
             Database::Mount => mount::write(&mut out, size)?,
+            Database::Gears => gears::write(&mut out, size)?,
+            Database::Lattice => lattice::write(&mut out, size)?,
+            Database::Rings => rings::write(&mut out, size)?,
+            Database::Shells => shells::write(&mut out, size)?,
+            Database::Sombrero => sombrero::write(&mut out, size)?,
             Database::Tetra => tetra::write(&mut out, size)?,
+            Database::Tree => tree::write(&mut out, size)?,
         }
         out.finish()
     }

@@ -7,6 +7,7 @@
 //! within the mountain; it is kept, as the SPD keeps it, so the scenes are
 //! the ones whose statistics were published (November 1987 IEEE CG&A).
 
+use super::matrix::{axis_rotate, normalize, rotate, transform_vector, Axis};
 use super::out::SpdOut;
 use super::random::gauss_rand;
 use glam::DVec3;
@@ -44,43 +45,16 @@ pub fn write<W: Write>(out: &mut SpdOut<W>, size: u32) -> io::Result<()> {
 
 /// The pyramid of crystal spheres: one above `centre`, three around it.
 fn spheres<W: Write>(out: &mut SpdOut<W>, centre: DVec3, radius: f64) -> io::Result<()> {
-    let axis = DVec3::new(1.0, 1.0, 0.0);
-    let axis = axis / axis.dot(axis).sqrt();
+    let axis = normalize(DVec3::new(1.0, 1.0, 0.0));
     let angle = (-1.0f64 / 3.0).acos();
     let top = DVec3::new(0.0, 0.0, radius * (3.0f64 / 2.0).sqrt());
     out.sphere(centre + top, radius)?;
-    let turned = transform_vector(top, &axis_rotation(axis, angle));
+    let turned = transform_vector(top, &axis_rotate(axis, angle));
     for i in 0..3 {
-        let p = transform_vector(turned, &z_rotation(i as f64 * 2.0 * std::f64::consts::PI / 3.0));
+        let p = transform_vector(turned, &rotate(Axis::Z, i as f64 * 2.0 * std::f64::consts::PI / 3.0));
         out.sphere(p + centre, radius)?;
     }
     Ok(())
-}
-
-/// libvec.c's `lib_create_axis_rotate_matrix` (the 3x3 part).
-fn axis_rotation(a: DVec3, angle: f64) -> [[f64; 3]; 3] {
-    let (c, s) = (angle.cos(), angle.sin());
-    let t = 1.0 - c;
-    [
-        [a.x * a.x + (1.0 - a.x * a.x) * c, a.x * a.y * t + a.z * s, a.x * a.z * t - a.y * s],
-        [a.x * a.y * t - a.z * s, a.y * a.y + (1.0 - a.y * a.y) * c, a.y * a.z * t + a.x * s],
-        [a.x * a.z * t + a.y * s, a.y * a.z * t - a.x * s, a.z * a.z + (1.0 - a.z * a.z) * c],
-    ]
-}
-
-/// libvec.c's `lib_create_rotate_matrix` about Z.
-fn z_rotation(angle: f64) -> [[f64; 3]; 3] {
-    let (c, s) = (angle.cos(), angle.sin());
-    [[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]]
-}
-
-/// libvec.c's `lib_transform_vector`: the row vector times the matrix.
-fn transform_vector(v: DVec3, m: &[[f64; 3]; 3]) -> DVec3 {
-    DVec3::new(
-        v.x * m[0][0] + v.y * m[1][0] + v.z * m[2][0],
-        v.x * m[0][1] + v.y * m[1][1] + v.z * m[2][1],
-        v.x * m[0][2] + v.y * m[1][2] + v.z * m[2][2],
-    )
 }
 
 struct Mountain {

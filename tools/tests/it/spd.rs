@@ -17,7 +17,18 @@ fn generate(db: Database, size: u32, precision: Precision) -> Vec<u8> {
 
 #[test]
 fn the_output_is_the_c_programs_byte_for_byte() {
-    for (db, sizes) in [(Database::Tetra, &[1, 2, 3][..]), (Database::Mount, &[1, 2, 3, 5][..])] {
+    let cases: [(Database, &[u32]); 9] = [
+        (Database::Balls, &[1, 2, 3, 4]),
+        (Database::Gears, &[1, 2]),
+        (Database::Lattice, &[1, 2]),
+        (Database::Mount, &[1, 2, 3, 5]),
+        (Database::Rings, &[1, 2]),
+        (Database::Shells, &[1, 2]),
+        (Database::Sombrero, &[1]),
+        (Database::Tetra, &[1, 2, 3]),
+        (Database::Tree, &[1, 2]),
+    ];
+    for (db, sizes) in cases {
         for &size in sizes {
             let ours = generate(db, size, Precision::Spd);
             let theirs = fixture(&format!("{}_s{size}", db.name()));
@@ -33,8 +44,8 @@ fn the_output_is_the_c_programs_byte_for_byte() {
 #[test]
 fn counts_follow_the_headers_and_every_scene_reads_back_clean_and_renders() {
     use nffkit_tracer::prepare::{prepare, PrepareOptions};
-    for db in [Database::Tetra, Database::Mount] {
-        for size in 1..=3 {
+    for &db in <Database as strum::VariantArray>::VARIANTS {
+        for size in 1..=2 {
             for precision in [Precision::Spd, Precision::Full] {
                 let text = generate(db, size, precision);
                 let parsed = nff::parse(&text, &ParseOptions::default()).unwrap();
@@ -47,7 +58,11 @@ fn counts_follow_the_headers_and_every_scene_reads_back_clean_and_renders() {
             }
         }
     }
+    // The tables in the C programs' headers.
     assert_eq!((Database::Tetra.primitives(6), Database::Mount.primitives(6)), (4096, 8196));
+    assert_eq!((Database::Balls.primitives(4), Database::Tree.primitives(11)), (7382, 8191));
+    assert_eq!((Database::Gears.primitives(4), Database::Rings.primitives(7)), (9345, 8401));
+    assert_eq!((Database::Lattice.primitives(12), Database::Sombrero.primitives(1)), (8281, 1922));
 }
 
 #[test]
