@@ -46,20 +46,32 @@ struct Args {
     list: bool,
 }
 
-fn list() {
-    println!("{:<10} {:>8}  primitives at size 1, 2, 3, ... (the default marked *)", "database", "default");
+/// The databases, their default and largest sizes and their counts.
+fn list(w: &mut dyn std::io::Write) -> std::io::Result<()> {
+    writeln!(
+        w,
+        "{:<10} {:>7} {:>7}  primitives at size 1, 2, 3, ... (the default marked *)",
+        "database", "default", "largest"
+    )?;
     for &db in Database::VARIANTS {
-        let counts: Vec<String> = (1..=db.max_size().min(8))
+        let counts: Vec<String> = (1..=db.max_size().min(db.default_size().max(6)))
             .map(|s| format!("{}{}", db.primitives(s), if s == db.default_size() { "*" } else { "" }))
             .collect();
-        println!("{:<10} {:>8}  {}", db.name(), db.default_size(), counts.join(", "));
+        writeln!(
+            w,
+            "{:<10} {:>7} {:>7}  {}",
+            db.name(),
+            db.default_size(),
+            db.max_size(),
+            counts.join(", ")
+        )?;
     }
+    Ok(())
 }
 
 fn run(a: &Args) -> Result<()> {
     if a.list {
-        list();
-        return Ok(());
+        return cli_util::write_output(None, list);
     }
     let db = a.database.expect("clap requires a database without --list");
     let size = a.size.unwrap_or(db.default_size());

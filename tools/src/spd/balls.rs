@@ -15,7 +15,7 @@ pub const DEFAULT_SIZE: u32 = 4;
 
 /// Primitives at `size`: the spheres and the floor polygon.
 pub fn primitives(size: u32) -> u64 {
-    (9u64.pow(size + 1) - 1) / 8 + 1
+    (9u64.saturating_pow(size + 1) - 1) / 8 + 1
 }
 
 /// Write the database.

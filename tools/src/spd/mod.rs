@@ -23,6 +23,10 @@ pub use out::{Precision, SpdOut};
 
 use std::io::{self, Write};
 
+/// The most primitives a database is generated with: a billion (tens of
+/// gigabytes of text; streamed, it needs no memory, but the disk).
+pub const MAX_PRIMITIVES: u64 = 1_000_000_000;
+
 /// A database of the SPD.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, strum::VariantArray)]
 pub enum Database {
@@ -30,16 +34,16 @@ pub enum Database {
     /// reflection between many spheres (the P3D report's balls_low, medium
     /// and high are sizes 1, 2 and 4).
     Balls,
-    /// Fractal terrain, 2·4^size small triangles of every orientation,
-    /// seen through four glass spheres (refraction; the P3D report's
-    /// Table 1 scenes are sizes 1, 5 and 7).
-    Mount,
     /// A block of intermeshing gears, some of glass: concave 144-vertex
     /// polygons, refraction, reflections between close surfaces.
     Gears,
     /// A cubic lattice of spheres joined by cylinders, seen from its edge:
     /// very many evenly packed objects.
     Lattice,
+    /// Fractal terrain, 2·4^size small triangles of every orientation,
+    /// seen through four glass spheres (refraction; the P3D report's
+    /// Table 1 scenes are sizes 1, 5 and 7).
+    Mount,
     /// Rings of cylinders and spheres in a pyramid of layers before a
     /// wall: many cylinders, and their shadows on each other.
     Rings,
@@ -104,10 +108,9 @@ impl Database {
         }
     }
 
-    /// The largest size whose output stays within reason (about 100
-    /// million primitives).
+    /// The largest size of at most [`MAX_PRIMITIVES`] primitives.
     pub fn max_size(self) -> u32 {
-        (1..=20).take_while(|&s| self.primitives(s) <= 100_000_000).last().unwrap_or(1)
+        (1..=4096).take_while(|&s| self.primitives(s) <= MAX_PRIMITIVES).last().unwrap_or(1)
     }
 
     /// Write the database at `size` to `w`.

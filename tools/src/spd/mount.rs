@@ -18,7 +18,7 @@ pub const DEFAULT_SIZE: u32 = 6;
 
 /// Primitives at `size`: 2·4^size triangles and 4 spheres.
 pub fn primitives(size: u32) -> u64 {
-    2 * 4u64.pow(size) + 4
+    4u64.saturating_pow(size).saturating_mul(2).saturating_add(4)
 }
 
 const FRACTAL_DIMENSION: f64 = 2.2;

@@ -21,43 +21,92 @@ pub fn push_g(out: &mut String, x: f64) {
         out.push_str(if x.is_sign_negative() { "-0" } else { "0" });
         return;
     }
-    // %e's six digits and exponent; %g's fixed form has the same digits
-    // (its decimals are chosen to give six), so they are moved, not
-    // formatted again. The exponent comes from the rounded text, since
-    // rounding may carry into the next power of ten (9.999995 → 1.00000e+01).
-    let mut e_form = [0u8; 32];
-    let mut cursor = std::io::Cursor::new(&mut e_form[..]);
-    let _ = std::io::Write::write_fmt(&mut cursor, format_args!("{:.*e}", (PRECISION - 1) as usize, x.abs()));
-    let e_len = cursor.position() as usize;
-    let e_form = std::str::from_utf8(&e_form[..e_len]).expect("{:e} writes ASCII");
-    let (mantissa, exponent) = e_form.split_once('e').expect("{:e} has an exponent");
-    let exponent: i32 = exponent.parse().expect("{:e} exponent is an integer");
-    let mut digits = [b'0'; PRECISION as usize];
-    for (slot, d) in digits.iter_mut().zip(mantissa.bytes().filter(u8::is_ascii_digit)) {
-        *slot = d;
-    }
+    let (digits, exponent) = six_digits(x.abs());
     if x < 0.0 {
         out.push('-');
     }
     let start = out.len();
+    let digit = |k: usize| char::from(b'0' + digits[k]);
     if (-4..PRECISION).contains(&exponent) {
+        // The fixed form has the same six digits (its decimals are chosen
+        // to give six), so they are moved, not computed again.
         if exponent >= 0 {
             let point = exponent as usize + 1;
-            out.extend(digits[..point].iter().map(|&d| d as char));
+            out.extend((0..point).map(digit));
             out.push('.');
-            out.extend(digits[point..].iter().map(|&d| d as char));
+            out.extend((point..6).map(digit));
         } else {
             out.push_str("0.");
             out.extend(std::iter::repeat_n('0', (-exponent - 1) as usize));
-            out.extend(digits.iter().map(|&d| d as char));
+            out.extend((0..6).map(digit));
         }
         trim_zeros(out, start);
     } else {
-        out.push_str(mantissa);
+        out.push(digit(0));
+        out.push('.');
+        out.extend((1..6).map(digit));
         trim_zeros(out, start);
         let sign = if exponent < 0 { '-' } else { '+' };
         let _ = write!(out, "e{sign}{:02}", exponent.abs());
     }
+}
+
+/// The six significant digits of `a` (positive, finite) rounded as
+/// printf rounds (to nearest, ties to even, on the exact binary value),
+/// and the decimal exponent of the first.
+///
+/// The fast way scales `a` by an exact power of ten (one rounding, so an
+/// error under 2^-53 of the result, about 1e-10 at six digits) and
+/// rounds; where that leaves the value within 1e-9 of a rounding tie, or
+/// the power is not exact, the exact formatter decides.
+fn six_digits(a: f64) -> ([u8; 6], i32) {
+    const EXACT_POWERS: i32 = 22;
+    let mut exponent = a.log10().floor() as i32;
+    for _ in 0..2 {
+        let k = PRECISION - 1 - exponent;
+        if k.abs() > EXACT_POWERS {
+            break;
+        }
+        let power = 10f64.powi(k.abs());
+        let scaled = if k >= 0 { a * power } else { a / power };
+        // Near a tie (the range's ends 99999.5 and 999999.5 included) the
+        // scaling error could decide: the exact way does.
+        if (scaled - scaled.floor() - 0.5).abs() < 1e-9 {
+            break;
+        }
+        if scaled < 99_999.5 {
+            exponent -= 1;
+            continue;
+        }
+        if scaled >= 999_999.5 {
+            exponent += 1;
+            continue;
+        }
+        let n = scaled.round() as u32;
+        let mut digits = [0u8; 6];
+        let mut rest = n;
+        for d in digits.iter_mut().rev() {
+            *d = (rest % 10) as u8;
+            rest /= 10;
+        }
+        return (digits, exponent);
+    }
+    exact_six_digits(a)
+}
+
+/// [`six_digits`] by the standard library's exact formatting.
+fn exact_six_digits(a: f64) -> ([u8; 6], i32) {
+    let mut text = [0u8; 32];
+    let mut cursor = std::io::Cursor::new(&mut text[..]);
+    let _ = std::io::Write::write_fmt(&mut cursor, format_args!("{:.*e}", (PRECISION - 1) as usize, a));
+    let len = cursor.position() as usize;
+    let text = std::str::from_utf8(&text[..len]).expect("{:e} writes ASCII");
+    let (mantissa, exponent) = text.split_once('e').expect("{:e} has an exponent");
+    let mut digits = [0u8; 6];
+    for (slot, d) in digits.iter_mut().zip(mantissa.bytes().filter(u8::is_ascii_digit)) {
+        *slot = d - b'0';
+    }
+    (digits, exponent.parse().expect("{:e} exponent is an integer"))
 }
 
 /// `x` as C's `%g` writes it.
@@ -106,6 +155,25 @@ mod tests {
         ];
         for (x, want) in cases {
             assert_eq!(g(x), want, "{x:e}");
+        }
+    }
+
+    #[test]
+    fn the_fast_digits_are_the_exact_ones() {
+        // Values across the range, ties of six digits (exact in binary:
+        // 0.5-multiples), and near-ties.
+        let mut x = 0x2545_F491_4F6C_DD1Du64;
+        let mut values = vec![1.234565, 2.5, 1000005.0, 0.1250005, 999999.5, 99999.95, 1e-5, 9.999995e-5];
+        for _ in 0..200_000 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let mantissa = (x >> 11) as f64 / (1u64 << 53) as f64;
+            let exponent = (x % 80) as i32 - 40;
+            values.push((1.0 + mantissa) * 10f64.powi(exponent));
+        }
+        for v in values {
+            assert_eq!(six_digits(v), exact_six_digits(v), "{v:e}");
         }
     }
 }

@@ -18,15 +18,16 @@ const EXPONENT: f64 = 0.15;
 const K: f64 = 1.0;
 
 /// The spheres' steps at `size` and the range of `i` the C loops over.
-fn steps(size: u32) -> (i64, std::ops::RangeInclusive<i64>) {
-    let steps = (180.0 * 2f64.powf(f64::from(size))) as i64;
+/// (In i128, so that any size's count is computed without overflow.)
+fn steps(size: u32) -> (i128, std::ops::RangeInclusive<i128>) {
+    let steps = (180.0 * 2f64.powf(f64::from(size))) as i128;
     (steps, -steps * 2 / 3..=steps / 3)
 }
 
 /// Primitives at `size`.
 pub fn primitives(size: u32) -> u64 {
     let (_, range) = steps(size);
-    (range.end() - range.start() + 1) as u64
+    u64::try_from(range.end() - range.start() + 1).unwrap_or(u64::MAX)
 }
 
 /// Write the database.

@@ -10,14 +10,14 @@ use std::io::{self, Write};
 pub const DEFAULT_SIZE: u32 = 1;
 
 /// Grid points per side at `size`.
-fn width(size: u32) -> usize {
-    32 << (size - 1)
+fn width(size: u32) -> u64 {
+    2u64.saturating_pow(size - 1).saturating_mul(32)
 }
 
 /// Primitives at `size`.
 pub fn primitives(size: u32) -> u64 {
-    let w = width(size) as u64;
-    2 * (w - 1) * (w - 1)
+    let w = width(size) - 1;
+    w.saturating_mul(w).saturating_mul(2)
 }
 
 /// Write the database.
@@ -26,7 +26,7 @@ pub fn write<W: Write>(out: &mut SpdOut<W>, size: u32) -> io::Result<()> {
     out.viewpoint(DVec3::new(0.0, 5.0, -8.0), DVec3::ZERO, DVec3::Z, 40.0, 0.01, [512, 512])?;
     out.light(DVec3::new(10.0, 10.0, -10.0))?;
     out.color(DVec3::new(1.0, 0.1, 0.1), 0.8, 0.0, 40.0, 0.0, 1.0)?;
-    let w = width(size);
+    let w = width(size) as usize;
     let data = sombrero(w, -4.0, 4.0, -4.0, 4.0);
     height_field(out, &data, w, [-4.0, 4.0], -3.0, [-4.0, 4.0])
 }

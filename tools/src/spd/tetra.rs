@@ -12,7 +12,7 @@ pub const DEFAULT_SIZE: u32 = 6;
 
 /// Triangles at `size`.
 pub fn primitives(size: u32) -> u64 {
-    4u64.pow(size)
+    4u64.saturating_pow(size)
 }
 
 /// Write the database.

@@ -13,7 +13,7 @@ pub const DEFAULT_SIZE: u32 = 11;
 
 /// Primitives at `size`: a cone and a sphere per branch, and the field.
 pub fn primitives(size: u32) -> u64 {
-    2 * ((1u64 << (size + 1)) - 1) + 1
+    (2u64.saturating_pow(size + 1) - 1).saturating_mul(2).saturating_add(1)
 }
 
 const BR_DIAMETER: f64 = 0.67;
