@@ -7,7 +7,6 @@ use nffkit_formats::{atomic, image_io};
 use nffkit_tools::cli_util;
 use nffkit_tools::demo::page::{self, FiguresSection};
 use nffkit_tools::demo::{contact_sheet, figures, run, table, DemoConfig};
-use nffkit_tools::qa::golden::find_scenes_dir;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -79,17 +78,6 @@ fn main_inner(a: &Args) -> Result<()> {
         seed: a.seed,
         ..Default::default()
     };
-    // Fail before rendering if Table 1 cannot be made.
-    let spd_dir = if a.figures {
-        let cwd = std::env::current_dir().context("reading the current directory")?;
-        Some(
-            find_scenes_dir(&cwd, "leave out --figures")
-                .context("--figures runs `table1 --quick` on the project's scenes/spd")?
-                .join("spd"),
-        )
-    } else {
-        None
-    };
     let pool = rayon::ThreadPoolBuilder::new().num_threads(a.threads.unwrap_or(0) as usize).build()?;
     let t0 = std::time::Instant::now();
     let (result, figures) = pool.install(|| -> Result<_> {
@@ -103,9 +91,9 @@ fn main_inner(a: &Args) -> Result<()> {
         if let Some(b) = b {
             b.finish_and_clear();
         }
-        let figures = match &spd_dir {
-            None => None,
-            Some(dir) => {
+        let figures = match a.figures {
+            false => None,
+            true => {
                 let b = bar(a.quiet, "figures");
                 if let Some(b) = &b {
                     b.set_length(figures::FIGURES.len() as u64);
@@ -120,7 +108,7 @@ fn main_inner(a: &Args) -> Result<()> {
                 }
                 let quiet = a.quiet;
                 let (size, cap) = nffkit_tools::bench::table1::QUICK;
-                let table1 = nffkit_tools::bench::table1::table(dir, size, cap, 1, &|what| {
+                let table1 = nffkit_tools::bench::table1::table(size, cap, 1, &|what| {
                     if !quiet {
                         nffkit_tools::eprintln_safe!("table1: timing {what}");
                     }

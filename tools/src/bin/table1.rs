@@ -1,24 +1,18 @@
 //! `table1`: reproduce Table 1 of the P3D report. See `table1 --help`.
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Parser;
 use nffkit_tools::cli_util;
-use nffkit_tools::qa::golden::find_scenes_dir;
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 /// Reproduce Table 1 of the P3D report: brute force, uniform grid and BVH timed on six SPD scenes.
 ///
-/// Balls (levels 1, 2, 4) and mount (levels 1,
-/// 5, 7) at 512x512, depth 6, 1 spp, with no acceleration, the uniform grid
+/// The SPD's balls (sizes 1, 2, 4) and mount (sizes 1, 5, 7), generated
+/// as `spd` writes them (no files needed), at 512x512, depth 6, 1 spp, with no acceleration, the uniform grid
 /// and the BVH; prints a markdown table with speedups and Mrays/s.
 #[derive(Parser, Debug)]
 #[command(name = "table1", version)]
 struct Args {
-    /// Folder with the SPD mount files (mount_s1/s5/s7.nff). Default:
-    /// `scenes/spd` of the current directory or the nearest folder above it.
-    #[arg(long, value_name = "DIR")]
-    spd_dir: Option<PathBuf>,
     /// Image size.
     #[arg(long, default_value_t = 512)]
     size: u32,
@@ -38,16 +32,8 @@ struct Args {
 }
 
 fn run(a: &Args) -> Result<()> {
-    let spd_dir = match &a.spd_dir {
-        Some(dir) => dir.clone(),
-        None => find_scenes_dir(
-            &std::env::current_dir().context("reading the current directory")?,
-            "pass --spd-dir DIR",
-        )?
-        .join("spd"),
-    };
     let (size, cap) = if a.quick { nffkit_tools::bench::table1::QUICK } else { (a.size, a.cap) };
-    let t = nffkit_tools::bench::table1::table(&spd_dir, size, cap, a.jobs as usize, &|what| {
+    let t = nffkit_tools::bench::table1::table(size, cap, a.jobs as usize, &|what| {
         nffkit_tools::eprintln_safe!("timing {what}")
     })?;
     cli_util::print(&t)?;

@@ -264,7 +264,6 @@ fn messages_name_the_right_thing() {
     says(PLANEGEN, &["--z=-1e400"], "--z must be a finite number");
     says(PLANEGEN, &["--nx", "-3"], "invalid value '-3' for '--nx <NX>'");
     says(env!("CARGO_BIN_EXE_raybench"), &["--runs", "0", "x.nff"], "0 is not in 1..=1000");
-    says(env!("CARGO_BIN_EXE_table1"), &[], "pass --spd-dir DIR");
     says(NFFBENCH, &[], "pass --spd-dir DIR");
     says(NFFMERGE, &["missing.exr", "-o", "x.png"], "parts are the .exr files");
     let o =

@@ -96,3 +96,16 @@ fn full_precision_keeps_every_digit_and_the_command_line_streams_and_checks() {
     let list = String::from_utf8_lossy(&o.stdout);
     assert!(list.contains("tetra") && list.contains("4096*") && list.contains("8196*"), "{list}");
 }
+
+#[test]
+fn table1_generates_its_six_scenes_without_files() {
+    use nffkit_tools::bench::table1::{load, CASES};
+    for case in &CASES {
+        let scene = load(case).unwrap();
+        let (db, size) = case.source;
+        assert_eq!(scene.primitives.len() as u64, db.primitives(size), "{}", case.name);
+    }
+    // mount_very_high is the file the SPD writes, parsed.
+    let fixture = nff::parse(&fixture("mount_s7"), &ParseOptions::default()).unwrap().scene;
+    assert_eq!(load(&CASES[5]).unwrap().primitives, fixture.primitives);
+}
