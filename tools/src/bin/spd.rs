@@ -22,9 +22,9 @@ use strum::VariantArray;
 /// it (`%g`, six significant digits): the output is theirs byte for byte.
 /// The default writes every digit.
 ///
-/// Databases so far: balls, gears, lattice, mount, rings, shells,
-/// sombrero, tetra and tree, as the SPD's default curved output (-c:
-/// spheres, cylinders and cones as themselves).
+/// Every database of the SPD's but sample and nurbtst (which test the
+/// library's primitives, not a tracer), as the SPD's default curved output
+/// (-c: spheres, cylinders and cones as themselves).
 #[derive(Parser, Debug)]
 #[command(name = "spd", version)]
 struct Args {

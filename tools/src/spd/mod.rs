@@ -7,6 +7,7 @@
 
 pub mod balls;
 pub mod gears;
+pub mod jacks;
 pub mod lattice;
 mod matrix;
 pub mod mount;
@@ -16,6 +17,8 @@ mod random;
 pub mod rings;
 pub mod shells;
 pub mod sombrero;
+pub mod teapot;
+mod teapot_data;
 pub mod tetra;
 pub mod tree;
 
@@ -37,6 +40,9 @@ pub enum Database {
     /// A block of intermeshing gears, some of glass: concave 144-vertex
     /// polygons, refraction, reflections between close surfaces.
     Gears,
+    /// Jacks (crossed cylinders capped by spheres) with smaller jacks in
+    /// their octants: objects placed through a transform stack.
+    Jacks,
     /// A cubic lattice of spheres joined by cylinders, seen from its edge:
     /// very many evenly packed objects.
     Lattice,
@@ -53,6 +59,9 @@ pub enum Database {
     /// A height field of a rippled sombrero function: 2(w − 1)² small
     /// smooth triangles, w = 32·2^(size−1).
     Sombrero,
+    /// The Utah teapot as smooth-shaded triangles on a checkerboard: many
+    /// small patches with normals, seen from both sides.
+    Teapot,
     /// A tetrahedral pyramid (Glassner; Kay and Kajiya): 4^size triangles
     /// in mostly empty space, a test of accelerators on sparse scenes.
     Tetra,
@@ -68,10 +77,12 @@ impl Database {
             Database::Balls => "balls",
             Database::Mount => "mount",
             Database::Gears => "gears",
+            Database::Jacks => "jacks",
             Database::Lattice => "lattice",
             Database::Rings => "rings",
             Database::Shells => "shells",
             Database::Sombrero => "sombrero",
+            Database::Teapot => "teapot",
             Database::Tetra => "tetra",
             Database::Tree => "tree",
         }
@@ -83,10 +94,12 @@ impl Database {
             Database::Balls => balls::DEFAULT_SIZE,
             Database::Mount => mount::DEFAULT_SIZE,
             Database::Gears => gears::DEFAULT_SIZE,
+            Database::Jacks => jacks::DEFAULT_SIZE,
             Database::Lattice => lattice::DEFAULT_SIZE,
             Database::Rings => rings::DEFAULT_SIZE,
             Database::Shells => shells::DEFAULT_SIZE,
             Database::Sombrero => sombrero::DEFAULT_SIZE,
+            Database::Teapot => teapot::DEFAULT_SIZE,
             Database::Tetra => tetra::DEFAULT_SIZE,
             Database::Tree => tree::DEFAULT_SIZE,
         }
@@ -99,10 +112,12 @@ impl Database {
             Database::Balls => balls::primitives(size),
             Database::Mount => mount::primitives(size),
             Database::Gears => gears::primitives(size),
+            Database::Jacks => jacks::primitives(size),
             Database::Lattice => lattice::primitives(size),
             Database::Rings => rings::primitives(size),
             Database::Shells => shells::primitives(size),
             Database::Sombrero => sombrero::primitives(size),
+            Database::Teapot => teapot::primitives(size),
             Database::Tetra => tetra::primitives(size),
             Database::Tree => tree::primitives(size),
         }
@@ -120,10 +135,12 @@ impl Database {
             Database::Balls => balls::write(&mut out, size)?,
             Database::Mount => mount::write(&mut out, size)?,
             Database::Gears => gears::write(&mut out, size)?,
+            Database::Jacks => jacks::write(&mut out, size)?,
             Database::Lattice => lattice::write(&mut out, size)?,
             Database::Rings => rings::write(&mut out, size)?,
             Database::Shells => shells::write(&mut out, size)?,
             Database::Sombrero => sombrero::write(&mut out, size)?,
+            Database::Teapot => teapot::write(&mut out, size)?,
             Database::Tetra => tetra::write(&mut out, size)?,
             Database::Tree => tree::write(&mut out, size)?,
         }

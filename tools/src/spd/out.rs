@@ -178,6 +178,24 @@ impl<W: Write> SpdOut<W> {
         self.write_polygon(&v)
     }
 
+    /// `lib_output_polypatch` of a triangle: `pp 3`, each corner with its
+    /// normal.
+    pub fn patch(&mut self, v: &[DVec3; 3], n: &[DVec3; 3]) -> io::Result<()> {
+        self.w.write_all(b"pp 3\n")?;
+        for (p, m) in v.iter().zip(n) {
+            self.line.clear();
+            for (k, x) in [p.x, p.y, p.z, m.x, m.y, m.z].into_iter().enumerate() {
+                if k > 0 {
+                    self.line.push(' ');
+                }
+                self.num(x);
+            }
+            self.line.push('\n');
+            self.w.write_all(self.line.as_bytes())?;
+        }
+        Ok(())
+    }
+
     fn write_polygon(&mut self, v: &[DVec3]) -> io::Result<()> {
         writeln!(self.w, "p {}", v.len())?;
         for p in v {

@@ -17,14 +17,16 @@ fn generate(db: Database, size: u32, precision: Precision) -> Vec<u8> {
 
 #[test]
 fn the_output_is_the_c_programs_byte_for_byte() {
-    let cases: [(Database, &[u32]); 9] = [
+    let cases: [(Database, &[u32]); 11] = [
         (Database::Balls, &[1, 2, 3, 4]),
         (Database::Gears, &[1, 2]),
+        (Database::Jacks, &[1, 2]),
         (Database::Lattice, &[1, 2]),
         (Database::Mount, &[1, 2, 3, 5]),
         (Database::Rings, &[1, 2]),
         (Database::Shells, &[1, 2]),
         (Database::Sombrero, &[1]),
+        (Database::Teapot, &[1, 2]),
         (Database::Tetra, &[1, 2, 3]),
         (Database::Tree, &[1, 2]),
     ];
@@ -49,7 +51,18 @@ fn counts_follow_the_headers_and_every_scene_reads_back_clean_and_renders() {
             for precision in [Precision::Spd, Precision::Full] {
                 let text = generate(db, size, precision);
                 let parsed = nff::parse(&text, &ParseOptions::default()).unwrap();
-                assert!(parsed.diagnostics.is_empty(), "{} {size}: {:?}", db.name(), parsed.diagnostics);
+                // The teapot's own data, as the SPD's file has it: at a
+                // few corners by the cusps and seams the patch normal faces
+                // away from the winding (the SPD renders it two-sided), and
+                // at size 1 some triangles are degenerate (its header says
+                // so). Nothing else warns.
+                let teapots = ["points against the polygon's winding", "degenerate polygon"];
+                let unexpected: Vec<_> = parsed
+                    .diagnostics
+                    .iter()
+                    .filter(|d| db != Database::Teapot || !teapots.iter().any(|t| d.message.contains(t)))
+                    .collect();
+                assert!(unexpected.is_empty(), "{} {size}: {unexpected:?}", db.name());
                 assert_eq!(parsed.scene.primitives.len() as u64, db.primitives(size), "{} {size}", db.name());
                 let opts = PrepareOptions { width: Some(16), height: Some(16), ..Default::default() };
                 let scene = prepare(&parsed.scene, &opts).unwrap();
@@ -63,6 +76,7 @@ fn counts_follow_the_headers_and_every_scene_reads_back_clean_and_renders() {
     assert_eq!((Database::Balls.primitives(4), Database::Tree.primitives(11)), (7382, 8191));
     assert_eq!((Database::Gears.primitives(4), Database::Rings.primitives(7)), (9345, 8401));
     assert_eq!((Database::Lattice.primitives(12), Database::Sombrero.primitives(1)), (8281, 1922));
+    assert_eq!((Database::Teapot.primitives(12), Database::Jacks.primitives(3)), (9120 + 144, 73 * 9));
 }
 
 #[test]
