@@ -50,7 +50,7 @@ pub struct Timing {
 /// A case's scene, generated as the SPD's C program writes it.
 pub fn load(case: &Case) -> Result<Scene> {
     let (db, size) = case.source;
-    let text = db.write(size, Precision::Spd, Vec::new())?;
+    let text = db.write(size, Precision::Spd, None, Vec::new())?;
     let parsed = nffkit_formats::nff::parse(&text, &ParseOptions::default())
         .map_err(|e| anyhow::anyhow!("{e}"))
         .with_context(|| format!("reading back spd {} --size {size}", db.name()))?;

@@ -24,7 +24,8 @@ use strum::VariantArray;
 ///
 /// Every database of the SPD's but sample and nurbtst (which test the
 /// library's primitives, not a tracer), as the SPD's default curved output
-/// (-c: spheres, cylinders and cones as themselves).
+/// (-c: spheres, cylinders and cones as themselves) or tessellated
+/// (--tessellate, the SPD's -t).
 #[derive(Parser, Debug)]
 #[command(name = "spd", version)]
 struct Args {
@@ -35,6 +36,13 @@ struct Args {
     /// database's own, see --list].
     #[arg(short, long)]
     size: Option<u32>,
+    /// Write spheres, cylinders and cones as smooth-shaded triangles (the
+    /// SPD's -t), RES × RES quadrilaterals per cube face of a sphere and
+    /// 4·RES sides per cylinder or cone [default RES: 3, the SPD's; jacks
+    /// always uses 2, as its program does].
+    #[arg(short, long, value_name = "RES", num_args = 0..=1, default_missing_value = "3",
+          value_parser = clap::value_parser!(u32).range(1..=1000))]
+    tessellate: Option<u32>,
     /// How numbers are written.
     #[arg(long, value_enum, default_value_t = Precision::Full)]
     precision: Precision,
@@ -87,7 +95,7 @@ fn run(a: &Args) -> Result<()> {
     if let Some(o) = &a.output {
         Outputs::new().file("-o", o)?;
     }
-    cli_util::write_output(a.output.as_deref(), |w| db.write(size, a.precision, w).map(|_| ()))
+    cli_util::write_output(a.output.as_deref(), |w| db.write(size, a.precision, a.tessellate, w).map(|_| ()))
 }
 
 fn main() -> ExitCode {

@@ -3,7 +3,7 @@
 //! levels: (8^size − 1)/7 jacks, nine primitives each, all placed through
 //! the SPD library's transform stack (libtx.c), which this reproduces.
 
-use super::matrix::{identity, multiply, rotate, transform_point, Axis, Matrix};
+use super::matrix::{identity, multiply, rotate, Axis, Matrix};
 use super::out::SpdOut;
 use glam::DVec3;
 use std::f64::consts::PI;
@@ -28,6 +28,10 @@ pub fn write<W: Write>(out: &mut SpdOut<W>, size: u32) -> io::Result<()> {
         &multiply(&rotate(Axis::X, -30.0 * PI / 180.0), &identity()),
     );
     out.color(DVec3::new(0.737, 0.561, 0.561), 0.7, 0.7, 20.0, 0.0, 1.0)?;
+    // jacks.c sets its own tessellation, whatever -t asks.
+    if out.tessellation().is_some() {
+        out.tessellate(Some(2));
+    }
     jack(out, &tx, 1, size)
 }
 
@@ -67,24 +71,19 @@ fn jack<W: Write>(out: &mut SpdOut<W>, tx: &Matrix, depth: u32, max_depth: u32) 
     Ok(())
 }
 
-/// jacks.c `make_jack_obj` through the transform `tx`: the library writes
-/// each point transformed and each radius times the length of the
-/// transform's first row (its X scale, from libtx.c `lib_tx_unwind`).
+/// jacks.c `make_jack_obj` through the transform `tx` (the library writes
+/// each point transformed and each radius scaled, or each tessellated
+/// triangle transformed).
 fn jack_object<W: Write>(out: &mut SpdOut<W>, tx: &Matrix) -> io::Result<()> {
-    let row = DVec3::new(tx[0][0] / tx[3][3], tx[0][1] / tx[3][3], tx[0][2] / tx[3][3]);
-    let scale_x = row.dot(row).sqrt().abs();
+    out.set_transform(Some(tx));
     // The C's coordinates as written: -1 0 0, not -1 -0 -0.
     let ends = [DVec3::X, DVec3::Y, DVec3::Z, DVec3::NEG_X, DVec3::NEG_Y, DVec3::NEG_Z];
     for k in 0..3 {
-        out.cone(
-            transform_point(ends[k + 3], tx),
-            0.1 * scale_x,
-            transform_point(ends[k], tx),
-            0.1 * scale_x,
-        )?;
+        out.cone(ends[k + 3], 0.1, ends[k], 0.1)?;
     }
     for e in ends {
-        out.sphere(transform_point(e, tx), 0.2 * scale_x)?;
+        out.sphere(e, 0.2)?;
     }
+    out.set_transform(None);
     Ok(())
 }

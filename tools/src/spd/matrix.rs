@@ -111,3 +111,63 @@ pub fn multiply(a: &Matrix, b: &Matrix) -> Matrix {
         std::array::from_fn(|j| a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j] + a[i][3] * b[3][j])
     })
 }
+
+/// libvec.c `det3x3`.
+#[allow(clippy::too_many_arguments)]
+fn det3(a1: f64, a2: f64, a3: f64, b1: f64, b2: f64, b3: f64, c1: f64, c2: f64, c3: f64) -> f64 {
+    a1 * (b2 * c3 - b3 * c2) - b1 * (a2 * c3 - a3 * c2) + c1 * (a2 * b3 - a3 * b2)
+}
+
+/// libvec.c `lib_matrix_det4x4`.
+pub fn det4(m: &Matrix) -> f64 {
+    let [[a1, b1, c1, d1], [a2, b2, c2, d2], [a3, b3, c3, d3], [a4, b4, c4, d4]] = *m;
+    a1 * det3(b2, b3, b4, c2, c3, c4, d2, d3, d4) - b1 * det3(a2, a3, a4, c2, c3, c4, d2, d3, d4)
+        + c1 * det3(a2, a3, a4, b2, b3, b4, d2, d3, d4)
+        - d1 * det3(a2, a3, a4, b2, b3, b4, c2, c3, c4)
+}
+
+/// libvec.c `lib_invert_matrix`: the adjoint over the determinant (the
+/// identity for a singular matrix, as the library gives).
+pub fn invert(m: &Matrix) -> Matrix {
+    let [[a1, b1, c1, d1], [a2, b2, c2, d2], [a3, b3, c3, d3], [a4, b4, c4, d4]] = *m;
+    let adj = [
+        [
+            det3(b2, b3, b4, c2, c3, c4, d2, d3, d4),
+            -det3(b1, b3, b4, c1, c3, c4, d1, d3, d4),
+            det3(b1, b2, b4, c1, c2, c4, d1, d2, d4),
+            -det3(b1, b2, b3, c1, c2, c3, d1, d2, d3),
+        ],
+        [
+            -det3(a2, a3, a4, c2, c3, c4, d2, d3, d4),
+            det3(a1, a3, a4, c1, c3, c4, d1, d3, d4),
+            -det3(a1, a2, a4, c1, c2, c4, d1, d2, d4),
+            det3(a1, a2, a3, c1, c2, c3, d1, d2, d3),
+        ],
+        [
+            det3(a2, a3, a4, b2, b3, b4, d2, d3, d4),
+            -det3(a1, a3, a4, b1, b3, b4, d1, d3, d4),
+            det3(a1, a2, a4, b1, b2, b4, d1, d2, d4),
+            -det3(a1, a2, a3, b1, b2, b3, d1, d2, d3),
+        ],
+        [
+            -det3(a2, a3, a4, b2, b3, b4, c2, c3, c4),
+            det3(a1, a3, a4, b1, b3, b4, c1, c3, c4),
+            -det3(a1, a2, a4, b1, b2, b4, c1, c2, c4),
+            det3(a1, a2, a3, b1, b2, b3, c1, c2, c3),
+        ],
+    ];
+    let det = det4(m);
+    if det.abs() < 1.0e-8 {
+        return identity();
+    }
+    adj.map(|row| row.map(|x| x / det))
+}
+
+/// libvec.c `lib_transform_normal`: `v` times the transpose of `m`.
+pub fn transform_normal(v: DVec3, m: &Matrix) -> DVec3 {
+    DVec3::new(
+        v.x * m[0][0] + v.y * m[0][1] + v.z * m[0][2],
+        v.x * m[1][0] + v.y * m[1][1] + v.z * m[1][2],
+        v.x * m[2][0] + v.y * m[2][1] + v.z * m[2][2],
+    )
+}

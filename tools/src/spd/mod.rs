@@ -19,6 +19,7 @@ pub mod shells;
 pub mod sombrero;
 pub mod teapot;
 mod teapot_data;
+mod tessellate;
 pub mod tetra;
 pub mod tree;
 
@@ -29,6 +30,10 @@ use std::io::{self, Write};
 /// The most primitives a database is generated with: a billion (tens of
 /// gigabytes of text; streamed, it needs no memory, but the disk).
 pub const MAX_PRIMITIVES: u64 = 1_000_000_000;
+
+/// The SPD's tessellation resolution when `-t` names none (lib.h's
+/// OUTPUT_RESOLUTION).
+pub const DEFAULT_RESOLUTION: u32 = 3;
 
 /// A database of the SPD.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, strum::VariantArray)]
@@ -128,9 +133,17 @@ impl Database {
         (1..=4096).take_while(|&s| self.primitives(s) <= MAX_PRIMITIVES).last().unwrap_or(1)
     }
 
-    /// Write the database at `size` to `w`.
-    pub fn write<W: Write>(self, size: u32, precision: Precision, w: W) -> io::Result<W> {
+    /// Write the database at `size` to `w`, curved primitives as
+    /// themselves or (`tessellate`) as triangles at that resolution.
+    pub fn write<W: Write>(
+        self,
+        size: u32,
+        precision: Precision,
+        tessellate: Option<u32>,
+        w: W,
+    ) -> io::Result<W> {
         let mut out = SpdOut::new(w, precision);
+        out.tessellate(tessellate);
         match self {
             Database::Balls => balls::write(&mut out, size)?,
             Database::Mount => mount::write(&mut out, size)?,

@@ -2,7 +2,9 @@
 //! libply.c), line for line, streamed: each entity goes to the writer as it
 //! is made, so a database of millions of primitives never sits in memory.
 
+use super::matrix::{invert, transform_normal, transform_point, Matrix};
 use super::number::push_g;
+use super::tessellate::{self, Patch};
 use glam::DVec3;
 use nffkit_formats::nff::format_number;
 use std::io::{self, Write};
@@ -27,6 +29,20 @@ pub struct SpdOut<W: Write> {
     precision: Precision,
     line: String,
     recent: Recent,
+    /// Curved primitives as triangles at this resolution (the SPD's -t).
+    tessellate: Option<u32>,
+    /// The library's current transform (libtx.c), when one is active.
+    transform: Option<Transform>,
+}
+
+/// A transform and what writing through it needs.
+struct Transform {
+    m: Matrix,
+    /// For normals: the inverse, used transposed.
+    inverse: Matrix,
+    /// Radii scale by the length of the first row (libtx.c
+    /// `lib_tx_unwind`'s X scale).
+    scale: f64,
 }
 
 /// The text of recently written numbers, by their bits: the databases
@@ -73,7 +89,34 @@ impl Recent {
 impl<W: Write> SpdOut<W> {
     /// Write to `w` with numbers in `precision`.
     pub fn new(w: W, precision: Precision) -> Self {
-        SpdOut { w, precision, line: String::with_capacity(128), recent: Recent::new() }
+        SpdOut {
+            w,
+            precision,
+            line: String::with_capacity(128),
+            recent: Recent::new(),
+            tessellate: None,
+            transform: None,
+        }
+    }
+
+    /// Write curved primitives as triangles at resolution `res` (the
+    /// SPD's `-t res`), or as themselves (`None`, its `-c`).
+    pub fn tessellate(&mut self, res: Option<u32>) {
+        self.tessellate = res;
+    }
+
+    /// The resolution curved primitives are tessellated at, if they are.
+    pub fn tessellation(&self) -> Option<u32> {
+        self.tessellate
+    }
+
+    /// Write what follows through `m` (the library's current transform), or
+    /// as given (`None`).
+    pub fn set_transform(&mut self, m: Option<&Matrix>) {
+        self.transform = m.map(|m| {
+            let row = DVec3::new(m[0][0] / m[3][3], m[0][1] / m[3][3], m[0][2] / m[3][3]);
+            Transform { m: *m, inverse: invert(m), scale: row.dot(row).sqrt().abs() }
+        });
     }
 
     /// The writer, flushed.
@@ -146,14 +189,59 @@ impl<W: Write> SpdOut<W> {
         self.entity("f", &[c.x, c.y, c.z, kd, ks, phong, kt, ior])
     }
 
-    /// `lib_output_sphere`, curved.
+    /// `lib_output_sphere`: `s`, or triangles when tessellating.
     pub fn sphere(&mut self, centre: DVec3, radius: f64) -> io::Result<()> {
+        if let Some(res) = self.tessellate {
+            let mut result = Ok(());
+            tessellate::sphere(centre, radius, res, |p| {
+                if result.is_ok() {
+                    result = self.transformed_patch(p);
+                }
+            });
+            return result;
+        }
+        let (centre, radius) = match &self.transform {
+            Some(t) => (transform_point(centre, &t.m), radius * t.scale),
+            None => (centre, radius),
+        };
         self.entity("s", &[centre.x, centre.y, centre.z, radius])
     }
 
-    /// `lib_output_cylcone`, curved.
+    /// `lib_output_cylcone`: `c`, or triangles when tessellating.
     pub fn cone(&mut self, base: DVec3, base_radius: f64, apex: DVec3, apex_radius: f64) -> io::Result<()> {
+        if let Some(res) = self.tessellate {
+            let mut result = Ok(());
+            tessellate::cone(base, base_radius, apex, apex_radius, res, |p| {
+                if result.is_ok() {
+                    result = self.transformed_patch(p);
+                }
+            });
+            return result;
+        }
+        let (base, base_radius, apex, apex_radius) = match &self.transform {
+            Some(t) => (
+                transform_point(base, &t.m),
+                base_radius * t.scale,
+                transform_point(apex, &t.m),
+                apex_radius * t.scale,
+            ),
+            None => (base, base_radius, apex, apex_radius),
+        };
         self.entity("c", &[base.x, base.y, base.z, base_radius, apex.x, apex.y, apex.z, apex_radius])
+    }
+
+    /// A tessellated primitive's triangle through the current transform
+    /// (libply.c `split_polygon`: points by it, normals by its inverse
+    /// transposed, not renormalised).
+    fn transformed_patch(&mut self, (v, n): Patch) -> io::Result<()> {
+        match &self.transform {
+            Some(t) => {
+                let v = v.map(|p| transform_point(p, &t.m));
+                let n = n.map(|p| transform_normal(p, &t.inverse));
+                self.patch(&v, &n)
+            }
+            None => self.patch(&v, &n),
+        }
     }
 
     /// `lib_output_polygon`: adjacent vertices closer than EPSILON2 are
