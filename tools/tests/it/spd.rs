@@ -157,3 +157,49 @@ fn table1_generates_its_six_scenes_without_files() {
     let fixture = nff::parse(&fixture("mount_s7"), &ParseOptions::default()).unwrap().scene;
     assert_eq!(load(&CASES[5]).unwrap().primitives, fixture.primitives);
 }
+
+#[test]
+fn the_sweep_script_prints_a_row_per_size() {
+    let bin = std::path::Path::new(env!("CARGO_BIN_EXE_spd")).parent().unwrap();
+    assert_eq!(bin, std::path::Path::new(env!("CARGO_BIN_EXE_render")).parent().unwrap());
+    let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
+    let script = format!("{}/../examples/spd-sweep.sh", env!("CARGO_MANIFEST_DIR"));
+    let o = std::process::Command::new("bash")
+        .arg(&script)
+        .args(["tetra", "1", "2"])
+        .env("PATH", path)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let rows: Vec<Vec<&str>> = text.lines().skip(1).map(|l| l.split_whitespace().collect()).collect();
+    assert_eq!(rows.len(), 2, "{text}");
+    for (row, (size, primitives)) in rows.iter().zip([("1", "4"), ("2", "16")]) {
+        assert_eq!((row[0], row[1], row[2]), ("tetra", size, primitives), "{text}");
+        assert!(row[4].parse::<f64>().unwrap() >= 0.0 && row[5].parse::<f64>().unwrap() > 0.0, "{text}");
+    }
+}
+
+#[test]
+fn the_spd_procedure_is_one_pipe_and_prints_the_published_figures() {
+    use std::io::Write;
+    use std::process::{Command, Stdio};
+    let scene = Command::new(env!("CARGO_BIN_EXE_spd")).args(["tetra", "--size", "6"]).output().unwrap();
+    assert!(scene.status.success());
+    let dir = tempfile::tempdir().unwrap();
+    let mut render = Command::new(env!("CARGO_BIN_EXE_render"))
+        .args(["-", "--spd-stats", "-q", "-o", "t.png"])
+        .current_dir(dir.path())
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    render.stdin.take().unwrap().write_all(&scene.stdout).unwrap();
+    let o = render.wait_with_output().unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(text.contains("SPD published figures: tetra at size 6"), "{text}");
+    let eye_hits = text.lines().find(|l| l.contains("eye hit rays")).unwrap();
+    assert!(eye_hits.contains("49788"), "{eye_hits}");
+}
