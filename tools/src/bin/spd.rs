@@ -1,10 +1,10 @@
 //! `spd`: the Standard Procedural Databases as NFF. See `spd --help`.
 
-use anyhow::{bail, Result};
+use anyhow::Result;
 use clap::Parser;
 use nffkit_tools::cli_util;
 use nffkit_tools::outputs::Outputs;
-use nffkit_tools::spd::{Database, Precision};
+use nffkit_tools::spd::{Database, Generate};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use strum::VariantArray;
@@ -29,29 +29,11 @@ use strum::VariantArray;
 #[derive(Parser, Debug)]
 #[command(name = "spd", version)]
 struct Args {
-    /// The database.
-    #[arg(required_unless_present = "list")]
-    database: Option<Database>,
-    /// Size (the SPD's -s): how finely the scene is divided [default: the
-    /// database's own, see --list].
-    #[arg(short, long)]
-    size: Option<u32>,
-    /// Write spheres, cylinders and cones as smooth-shaded triangles (the
-    /// SPD's -t), RES × RES quadrilaterals per cube face of a sphere and
-    /// 4·RES sides per cylinder or cone [default RES: 3, the SPD's; jacks
-    /// always uses 2, as its program does].
-    #[arg(short, long, value_name = "RES", num_args = 0..=1, default_missing_value = "3",
-          value_parser = clap::value_parser!(u32).range(1..=1000))]
-    tessellate: Option<u32>,
-    /// How numbers are written.
-    #[arg(long, value_enum, default_value_t = Precision::Full)]
-    precision: Precision,
+    #[command(flatten)]
+    generate: Generate,
     /// Output file (default: standard output). Written atomically.
-    #[arg(short, long)]
+    #[arg(short, long, conflicts_with = "list")]
     output: Option<PathBuf>,
-    /// List the databases, their default sizes and primitive counts.
-    #[arg(long, conflicts_with_all = ["database", "size", "output"])]
-    list: bool,
 }
 
 /// The databases, their default and largest sizes and their counts.
@@ -78,24 +60,15 @@ fn list(w: &mut dyn std::io::Write) -> std::io::Result<()> {
 }
 
 fn run(a: &Args) -> Result<()> {
-    if a.list {
+    let g = &a.generate;
+    if g.list {
         return cli_util::write_output(None, list);
     }
-    let db = a.database.expect("clap requires a database without --list");
-    let size = a.size.unwrap_or(db.default_size());
-    if !(1..=db.max_size()).contains(&size) {
-        bail!(
-            "--size {size}: {} takes sizes 1 to {} (size {} makes {} primitives)",
-            db.name(),
-            db.max_size(),
-            db.max_size(),
-            db.primitives(db.max_size())
-        );
-    }
+    let (db, size) = g.checked()?;
     if let Some(o) = &a.output {
         Outputs::new().file("-o", o)?;
     }
-    cli_util::write_output(a.output.as_deref(), |w| db.write(size, a.precision, a.tessellate, w).map(|_| ()))
+    cli_util::write_output(a.output.as_deref(), |w| db.write(size, g.precision, g.tessellate, w).map(|_| ()))
 }
 
 fn main() -> ExitCode {

@@ -73,6 +73,8 @@ pub enum Source {
     Planegen(Vec<String>),
     /// sphereflake, with `sphereflake` arguments.
     Sphereflake(Vec<String>),
+    /// An SPD database, with `spd` arguments.
+    Spd(Vec<String>),
     /// A file under `scenes/`.
     File(String),
     /// A mesh under `scenes/`, converted by mesh2nff (default options).
@@ -155,6 +157,21 @@ pub fn scene_of(case: &Case, scenes: &Path) -> Result<Scene> {
             let spheres = crate::gen::sphereflake::sphere_count(flake.level);
             memory::check(&format!("case {}: sphereflake level {}", case.name, flake.level), spheres * 300)?;
             flake.scene()
+        }
+        Source::Spd(args) => {
+            let g: crate::spd::Generate =
+                parse_args(args).with_context(|| format!("case {}: spd options", case.name))?;
+            let (db, size) = g.checked().with_context(|| format!("case {}", case.name))?;
+            // Held in memory, unlike the binary's stream: ~300 bytes a
+            // primitive read and prepared.
+            memory::check(
+                &format!("case {}: spd {} --size {size}", case.name, db.name()),
+                db.primitives(size) * 300,
+            )?;
+            let text = g.write(Vec::new())?;
+            nff::parse(&text, &ParseOptions::default())
+                .map_err(|e| anyhow::anyhow!("spd {}: {e}", db.name()))?
+                .scene
         }
         Source::Mesh(m) => {
             let mesh = nffkit_formats::mesh::load(&scenes.join(m))?;
@@ -411,7 +428,14 @@ mod tests {
         };
         assert_eq!(scene("{ planegen = [\"--nx\", \"2\", \"--ny\", \"3\"] }").unwrap(), 6);
         assert_eq!(scene("{ sphereflake = [\"--level\", \"1\", \"--no-floor\"] }").unwrap(), 10);
+        assert_eq!(scene("{ spd = [\"tetra\", \"--size\", \"2\"] }").unwrap(), 16);
+        assert_eq!(
+            scene("{ spd = [\"mount\", \"-s\", \"1\", \"--tessellate\", \"1\"] }").unwrap(),
+            8 + 4 * 12
+        );
         for (bad, says) in [
+            ("{ spd = [\"tetra\", \"--size\", \"99\"] }", "--size 99: tetra takes sizes 1 to"),
+            ("{ spd = [\"teapots\"] }", "invalid value 'teapots'"),
             ("{ planegen = [\"--nx\", \"0\"] }", "--nx and --ny must be at least 1"),
             ("{ planegen = [\"--squares\", \"2\"] }", "--squares"),
             ("{ sphereflake = [\"--level\", \"10\"] }", "the highest level is 9"),

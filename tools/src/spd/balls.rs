@@ -5,7 +5,7 @@
 //! same spheres with its own options.)
 
 use super::matrix::{axis_rotate, identity, normalize, rotate, transform_coord, Axis, Matrix};
-use super::out::SpdOut;
+use super::out::{Out, SpdOut};
 use glam::DVec3;
 use std::f64::consts::PI;
 use std::io::{self, Write};
@@ -19,7 +19,7 @@ pub fn primitives(size: u32) -> u64 {
 }
 
 /// Write the database.
-pub fn write<W: Write>(out: &mut SpdOut<W>, size: u32) -> io::Result<()> {
+pub fn write(out: &mut Out<'_>, size: u32) -> io::Result<()> {
     let radius = 1.0;
     out.background(DVec3::new(0.078, 0.361, 0.753))?;
     out.viewpoint(DVec3::new(2.1, 1.3, 1.7), DVec3::ZERO, DVec3::Z, 45.0, 0.01, [512, 512])?;

@@ -3,7 +3,7 @@
 //! refraction and many reflections between close surfaces.
 
 use super::matrix::{rotate, transform_vector, Axis};
-use super::out::SpdOut;
+use super::out::{Out, SpdOut};
 use glam::DVec3;
 use std::f64::consts::PI;
 use std::io::{self, Write};
@@ -25,7 +25,7 @@ pub fn primitives(size: u32) -> u64 {
 }
 
 /// Write the database.
-pub fn write<W: Write>(out: &mut SpdOut<W>, size: u32) -> io::Result<()> {
+pub fn write(out: &mut Out<'_>, size: u32) -> io::Result<()> {
     out.background(DVec3::new(0.078, 0.361, 0.753))?;
     out.viewpoint(DVec3::new(-1.1, -2.1, 2.6), DVec3::ZERO, DVec3::Z, 45.0, 1.0, [512, 512])?;
     for l in [

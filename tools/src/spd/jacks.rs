@@ -4,7 +4,7 @@
 //! the SPD library's transform stack (libtx.c), which this reproduces.
 
 use super::matrix::{identity, multiply, rotate, Axis, Matrix};
-use super::out::SpdOut;
+use super::out::{Out, SpdOut};
 use glam::DVec3;
 use std::f64::consts::PI;
 use std::io::{self, Write};
@@ -18,7 +18,7 @@ pub fn primitives(size: u32) -> u64 {
 }
 
 /// Write the database.
-pub fn write<W: Write>(out: &mut SpdOut<W>, size: u32) -> io::Result<()> {
+pub fn write(out: &mut Out<'_>, size: u32) -> io::Result<()> {
     out.background(DVec3::new(0.2, 0.05, 0.2))?;
     out.viewpoint(DVec3::new(0.0, 0.0, -8.0), DVec3::ZERO, DVec3::Y, 25.0, 0.001, [256, 256])?;
     out.light(DVec3::new(-10.0, 3.0, -20.0))?;

@@ -2,9 +2,9 @@
 //! 3·size·(size+1)² cylinders, seen from inside its edge: very many
 //! objects of two kinds packed evenly, six lights.
 
-use super::out::SpdOut;
+use super::out::Out;
 use glam::DVec3;
-use std::io::{self, Write};
+use std::io;
 
 /// The SPD's default size.
 pub const DEFAULT_SIZE: u32 = 12;
@@ -16,7 +16,7 @@ pub fn primitives(size: u32) -> u64 {
 }
 
 /// Write the database.
-pub fn write<W: Write>(out: &mut SpdOut<W>, size: u32) -> io::Result<()> {
+pub fn write(out: &mut Out<'_>, size: u32) -> io::Result<()> {
     let sf = f64::from(size);
     let inv = 1.0 / sf;
     let radius1 = 1.0 / 4.0 / sf;

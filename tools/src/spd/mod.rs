@@ -23,8 +23,9 @@ mod tessellate;
 pub mod tetra;
 pub mod tree;
 
-pub use out::{Precision, SpdOut};
+pub use out::{Out, Precision, SpdOut};
 
+use anyhow::bail;
 use std::io::{self, Write};
 
 /// The most primitives a database is generated with: a billion (tens of
@@ -75,57 +76,104 @@ pub enum Database {
     Tree,
 }
 
+/// What the program of one database is: its name, default size, count
+/// formula and generator (streaming to any writer).
+struct Program {
+    name: &'static str,
+    default_size: u32,
+    primitives: fn(u32) -> u64,
+    write: fn(&mut Out<'_>, u32) -> io::Result<()>,
+}
+
+/// The programs, in [`Database`]'s order.
+const PROGRAMS: [Program; 11] = [
+    Program {
+        name: "balls",
+        default_size: balls::DEFAULT_SIZE,
+        primitives: balls::primitives,
+        write: balls::write,
+    },
+    Program {
+        name: "gears",
+        default_size: gears::DEFAULT_SIZE,
+        primitives: gears::primitives,
+        write: gears::write,
+    },
+    Program {
+        name: "jacks",
+        default_size: jacks::DEFAULT_SIZE,
+        primitives: jacks::primitives,
+        write: jacks::write,
+    },
+    Program {
+        name: "lattice",
+        default_size: lattice::DEFAULT_SIZE,
+        primitives: lattice::primitives,
+        write: lattice::write,
+    },
+    Program {
+        name: "mount",
+        default_size: mount::DEFAULT_SIZE,
+        primitives: mount::primitives,
+        write: mount::write,
+    },
+    Program {
+        name: "rings",
+        default_size: rings::DEFAULT_SIZE,
+        primitives: rings::primitives,
+        write: rings::write,
+    },
+    Program {
+        name: "shells",
+        default_size: shells::DEFAULT_SIZE,
+        primitives: shells::primitives,
+        write: shells::write,
+    },
+    Program {
+        name: "sombrero",
+        default_size: sombrero::DEFAULT_SIZE,
+        primitives: sombrero::primitives,
+        write: sombrero::write,
+    },
+    Program {
+        name: "teapot",
+        default_size: teapot::DEFAULT_SIZE,
+        primitives: teapot::primitives,
+        write: teapot::write,
+    },
+    Program {
+        name: "tetra",
+        default_size: tetra::DEFAULT_SIZE,
+        primitives: tetra::primitives,
+        write: tetra::write,
+    },
+    Program {
+        name: "tree",
+        default_size: tree::DEFAULT_SIZE,
+        primitives: tree::primitives,
+        write: tree::write,
+    },
+];
+
 impl Database {
+    fn program(self) -> &'static Program {
+        &PROGRAMS[self as usize]
+    }
+
     /// The C program's name.
     pub fn name(self) -> &'static str {
-        match self {
-            Database::Balls => "balls",
-            Database::Mount => "mount",
-            Database::Gears => "gears",
-            Database::Jacks => "jacks",
-            Database::Lattice => "lattice",
-            Database::Rings => "rings",
-            Database::Shells => "shells",
-            Database::Sombrero => "sombrero",
-            Database::Teapot => "teapot",
-            Database::Tetra => "tetra",
-            Database::Tree => "tree",
-        }
+        self.program().name
     }
 
     /// The C program's default size (`-s`).
     pub fn default_size(self) -> u32 {
-        match self {
-            Database::Balls => balls::DEFAULT_SIZE,
-            Database::Mount => mount::DEFAULT_SIZE,
-            Database::Gears => gears::DEFAULT_SIZE,
-            Database::Jacks => jacks::DEFAULT_SIZE,
-            Database::Lattice => lattice::DEFAULT_SIZE,
-            Database::Rings => rings::DEFAULT_SIZE,
-            Database::Shells => shells::DEFAULT_SIZE,
-            Database::Sombrero => sombrero::DEFAULT_SIZE,
-            Database::Teapot => teapot::DEFAULT_SIZE,
-            Database::Tetra => tetra::DEFAULT_SIZE,
-            Database::Tree => tree::DEFAULT_SIZE,
-        }
+        self.program().default_size
     }
 
     /// Primitives written at `size`, by the formula in the C program's
     /// header.
     pub fn primitives(self, size: u32) -> u64 {
-        match self {
-            Database::Balls => balls::primitives(size),
-            Database::Mount => mount::primitives(size),
-            Database::Gears => gears::primitives(size),
-            Database::Jacks => jacks::primitives(size),
-            Database::Lattice => lattice::primitives(size),
-            Database::Rings => rings::primitives(size),
-            Database::Shells => shells::primitives(size),
-            Database::Sombrero => sombrero::primitives(size),
-            Database::Teapot => teapot::primitives(size),
-            Database::Tetra => tetra::primitives(size),
-            Database::Tree => tree::primitives(size),
-        }
+        (self.program().primitives)(size)
     }
 
     /// The largest size of at most [`MAX_PRIMITIVES`] primitives.
@@ -140,23 +188,63 @@ impl Database {
         size: u32,
         precision: Precision,
         tessellate: Option<u32>,
-        w: W,
+        mut w: W,
     ) -> io::Result<W> {
-        let mut out = SpdOut::new(w, precision);
+        let mut out = SpdOut::new(&mut w as &mut dyn Write, precision);
         out.tessellate(tessellate);
-        match self {
-            Database::Balls => balls::write(&mut out, size)?,
-            Database::Mount => mount::write(&mut out, size)?,
-            Database::Gears => gears::write(&mut out, size)?,
-            Database::Jacks => jacks::write(&mut out, size)?,
-            Database::Lattice => lattice::write(&mut out, size)?,
-            Database::Rings => rings::write(&mut out, size)?,
-            Database::Shells => shells::write(&mut out, size)?,
-            Database::Sombrero => sombrero::write(&mut out, size)?,
-            Database::Teapot => teapot::write(&mut out, size)?,
-            Database::Tetra => tetra::write(&mut out, size)?,
-            Database::Tree => tree::write(&mut out, size)?,
+        (self.program().write)(&mut out, size)?;
+        out.finish()?;
+        Ok(w)
+    }
+}
+
+/// What to generate: `spd`'s options, declared once for the binary and the
+/// golden catalogue.
+#[derive(Debug, Clone, clap::Args)]
+pub struct Generate {
+    /// The database.
+    #[arg(required_unless_present = "list")]
+    pub database: Option<Database>,
+    /// Size (the SPD's -s): how finely the scene is divided [default: the
+    /// database's own, see --list].
+    #[arg(short, long)]
+    pub size: Option<u32>,
+    /// Write spheres, cylinders and cones as smooth-shaded triangles (the
+    /// SPD's -t), RES × RES quadrilaterals per cube face of a sphere and
+    /// 4·RES sides per cylinder or cone [default RES: 3, the SPD's; jacks
+    /// always uses 2, as its program does].
+    #[arg(short, long, value_name = "RES", num_args = 0..=1, default_missing_value = "3",
+          value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub tessellate: Option<u32>,
+    /// How numbers are written.
+    #[arg(long, value_enum, default_value_t = Precision::Full)]
+    pub precision: Precision,
+    /// List the databases, their default and largest sizes and their
+    /// primitive counts.
+    #[arg(long, conflicts_with_all = ["database", "size"])]
+    pub list: bool,
+}
+
+impl Generate {
+    /// The database and size asked for, checked.
+    pub fn checked(&self) -> anyhow::Result<(Database, u32)> {
+        let Some(db) = self.database else { bail!("name a database (spd --list shows them)") };
+        let size = self.size.unwrap_or(db.default_size());
+        if !(1..=db.max_size()).contains(&size) {
+            bail!(
+                "--size {size}: {} takes sizes 1 to {} (size {} makes {} primitives)",
+                db.name(),
+                db.max_size(),
+                db.max_size(),
+                db.primitives(db.max_size())
+            );
         }
-        out.finish()
+        Ok((db, size))
+    }
+
+    /// Write the scene to `w`.
+    pub fn write<W: Write>(&self, w: W) -> anyhow::Result<W> {
+        let (db, size) = self.checked()?;
+        Ok(db.write(size, self.precision, self.tessellate, w)?)
     }
 }

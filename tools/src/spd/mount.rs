@@ -8,7 +8,7 @@
 //! the ones whose statistics were published (November 1987 IEEE CG&A).
 
 use super::matrix::{axis_rotate, normalize, rotate, transform_vector, Axis};
-use super::out::SpdOut;
+use super::out::{Out, SpdOut};
 use super::random::gauss_rand;
 use glam::DVec3;
 use std::io::{self, Write};
@@ -30,7 +30,7 @@ const ROOT_2: f64 = 1.4142136;
 const WIDTH: f64 = 2.0;
 
 /// Write the database.
-pub fn write<W: Write>(out: &mut SpdOut<W>, size: u32) -> io::Result<()> {
+pub fn write(out: &mut Out<'_>, size: u32) -> io::Result<()> {
     out.background(DVec3::new(0.078, 0.361, 0.753))?;
     out.viewpoint(DVec3::new(-1.6, 1.6, 1.7), DVec3::ZERO, DVec3::Z, 45.0, 0.01, [512, 512])?;
     out.light(DVec3::new(-100.0, -100.0, 100.0))?;

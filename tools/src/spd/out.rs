@@ -23,6 +23,9 @@ pub enum Precision {
 /// The SPD's degenerate-edge tolerance (def.h's EPSILON2 off the Mac).
 const EPSILON2: f64 = 1.0e-6;
 
+/// The stream every database writes to (any writer, behind a reference).
+pub type Out<'a> = SpdOut<&'a mut dyn Write>;
+
 /// An NFF stream written the SPD library's way.
 pub struct SpdOut<W: Write> {
     w: W,

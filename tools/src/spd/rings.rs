@@ -4,10 +4,10 @@
 //! holding k² sets of six rings.
 
 use super::matrix::{rotate, transform_point, Axis};
-use super::out::SpdOut;
+use super::out::Out;
 use glam::DVec3;
 use std::f64::consts::PI;
-use std::io::{self, Write};
+use std::io;
 
 /// The SPD's default size.
 pub const DEFAULT_SIZE: u32 = 7;
@@ -20,7 +20,7 @@ pub fn primitives(size: u32) -> u64 {
 }
 
 /// Write the database.
-pub fn write<W: Write>(out: &mut SpdOut<W>, size: u32) -> io::Result<()> {
+pub fn write(out: &mut Out<'_>, size: u32) -> io::Result<()> {
     let radius = 0.07412;
     let spread = 1.0 / (PI / 8.0).sin();
     // SPREAD_OUT is 1, never above `spread`.

@@ -2,10 +2,10 @@
 //! about 180·2^size of them, growing exponentially: many intersecting
 //! spheres of very different sizes.
 
-use super::out::SpdOut;
+use super::out::Out;
 use glam::DVec3;
 use std::f64::consts::PI;
-use std::io::{self, Write};
+use std::io;
 
 /// The SPD's default size.
 pub const DEFAULT_SIZE: u32 = 5;
@@ -31,7 +31,7 @@ pub fn primitives(size: u32) -> u64 {
 }
 
 /// Write the database.
-pub fn write<W: Write>(out: &mut SpdOut<W>, size: u32) -> io::Result<()> {
+pub fn write(out: &mut Out<'_>, size: u32) -> io::Result<()> {
     out.background(DVec3::new(0.078, 0.361, 0.753))?;
     out.viewpoint(
         DVec3::new(-6.0, -60.0, 35.0),

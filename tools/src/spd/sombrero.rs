@@ -2,7 +2,7 @@
 //! 3·cos(2πr)·e^(−r)/3 over a square, as 2·(w − 1)² triangles for a w × w
 //! grid (w = 32·2^(size−1)): a dense, smooth, rippled surface.
 
-use super::out::SpdOut;
+use super::out::{Out, SpdOut};
 use glam::DVec3;
 use std::io::{self, Write};
 
@@ -21,7 +21,7 @@ pub fn primitives(size: u32) -> u64 {
 }
 
 /// Write the database.
-pub fn write<W: Write>(out: &mut SpdOut<W>, size: u32) -> io::Result<()> {
+pub fn write(out: &mut Out<'_>, size: u32) -> io::Result<()> {
     out.background(DVec3::new(0.078, 0.361, 0.753))?;
     out.viewpoint(DVec3::new(0.0, 5.0, -8.0), DVec3::ZERO, DVec3::Z, 40.0, 0.01, [512, 512])?;
     out.light(DVec3::new(10.0, 10.0, -10.0))?;

@@ -5,7 +5,7 @@
 //! seen from both sides.
 
 use super::matrix::{multiply, transform_coord, Matrix};
-use super::out::SpdOut;
+use super::out::{Out, SpdOut};
 use super::teapot_data::{PATCHES, VERTICES};
 use glam::DVec3;
 use std::io::{self, Write};
@@ -25,7 +25,7 @@ const BEZIER: Matrix =
     [[-1.0, 3.0, -3.0, 1.0], [3.0, -6.0, 3.0, 0.0], [-3.0, 3.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]];
 
 /// Write the database.
-pub fn write<W: Write>(out: &mut SpdOut<W>, size: u32) -> io::Result<()> {
+pub fn write(out: &mut Out<'_>, size: u32) -> io::Result<()> {
     out.background(DVec3::new(0.078, 0.361, 0.753))?;
     out.viewpoint(DVec3::new(4.86, 7.2, 5.4), DVec3::ZERO, DVec3::Z, 45.0, 1.0, [512, 512])?;
     out.light(DVec3::new(-3.1, 9.8, 12.1))?;

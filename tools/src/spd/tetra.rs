@@ -3,7 +3,7 @@
 //! accelerator handles many small objects spread through a volume with
 //! holes.
 
-use super::out::SpdOut;
+use super::out::{Out, SpdOut};
 use glam::DVec3;
 use std::io::{self, Write};
 
@@ -16,7 +16,7 @@ pub fn primitives(size: u32) -> u64 {
 }
 
 /// Write the database.
-pub fn write<W: Write>(out: &mut SpdOut<W>, size: u32) -> io::Result<()> {
+pub fn write(out: &mut Out<'_>, size: u32) -> io::Result<()> {
     out.background(DVec3::new(0.078, 0.361, 0.753))?;
     out.viewpoint(
         DVec3::new(1.022846, -3.177154, -2.174512),

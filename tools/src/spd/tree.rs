@@ -3,7 +3,7 @@
 //! thin cones at every angle, and seven lights.
 
 use super::matrix::{identity, multiply, rotate, transform_point, Axis, Matrix};
-use super::out::SpdOut;
+use super::out::{Out, SpdOut};
 use glam::DVec3;
 use std::f64::consts::PI;
 use std::io::{self, Write};
@@ -20,7 +20,7 @@ const BR_DIAMETER: f64 = 0.67;
 const WIDTH_HEIGHT_RATIO: f64 = 0.15;
 
 /// Write the database.
-pub fn write<W: Write>(out: &mut SpdOut<W>, size: u32) -> io::Result<()> {
+pub fn write(out: &mut Out<'_>, size: u32) -> io::Result<()> {
     out.background(DVec3::new(0.078, 0.361, 0.753))?;
     out.viewpoint(DVec3::new(4.5, 0.4, 2.0), DVec3::new(0.0, 0.0, 1.5), DVec3::Z, 45.0, 1.0, [512, 512])?;
     for l in [

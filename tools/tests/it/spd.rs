@@ -15,65 +15,93 @@ fn generate(db: Database, size: u32, precision: Precision) -> Vec<u8> {
     db.write(size, precision, None, Vec::new()).unwrap()
 }
 
+/// The database, size and tessellation a C output's file name records:
+/// `NAME_sSIZE`, `NAME_sSIZE_t` (the default resolution) or
+/// `NAME_sSIZE_tRES`.
+fn case_of(name: &str) -> (Database, u32, Option<u32>) {
+    let mut parts = name.split('_');
+    let db = parts.next().unwrap();
+    let db = *<Database as strum::VariantArray>::VARIANTS.iter().find(|d| d.name() == db).unwrap();
+    let size = parts.next().unwrap().strip_prefix('s').unwrap().parse().unwrap();
+    let tessellate = parts.next().map(|t| {
+        let res = t.strip_prefix('t').unwrap();
+        if res.is_empty() {
+            nffkit_tools::spd::DEFAULT_RESOLUTION
+        } else {
+            res.parse().unwrap()
+        }
+    });
+    (db, size, tessellate)
+}
+
 #[test]
 fn the_output_is_the_c_programs_byte_for_byte() {
-    let cases: [(Database, &[u32]); 11] = [
-        (Database::Balls, &[1, 2, 3, 4]),
-        (Database::Gears, &[1, 2]),
-        (Database::Jacks, &[1, 2]),
-        (Database::Lattice, &[1, 2]),
-        (Database::Mount, &[1, 2, 3, 5]),
-        (Database::Rings, &[1, 2]),
-        (Database::Shells, &[1, 2]),
-        (Database::Sombrero, &[1]),
-        (Database::Teapot, &[1, 2]),
-        (Database::Tetra, &[1, 2, 3]),
-        (Database::Tree, &[1, 2]),
-    ];
-    for (db, sizes) in cases {
-        for &size in sizes {
-            let ours = generate(db, size, Precision::Spd);
-            let theirs = fixture(&format!("{}_s{size}", db.name()));
-            if ours != theirs {
-                let line =
-                    ours.split(|&b| b == b'\n').zip(theirs.split(|&b| b == b'\n')).position(|(a, b)| a != b);
-                panic!("{} -s {size}: first different line {line:?}", db.name());
-            }
+    use sha2::Digest;
+    use std::io::Read;
+    let dir = format!("{}/../scenes/spd/c", env!("CARGO_MANIFEST_DIR"));
+    let mut checked = std::collections::BTreeSet::new();
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let Some(name) = path.file_name().unwrap().to_str().unwrap().strip_suffix(".nff.gz") else {
+            continue;
+        };
+        let mut theirs = Vec::new();
+        flate2::read::GzDecoder::new(std::fs::File::open(&path).unwrap()).read_to_end(&mut theirs).unwrap();
+        let (db, size, tessellate) = case_of(name);
+        let ours = db.write(size, Precision::Spd, tessellate, Vec::new()).unwrap();
+        if ours != theirs {
+            let line =
+                ours.split(|&b| b == b'\n').zip(theirs.split(|&b| b == b'\n')).position(|(a, b)| a != b);
+            panic!("{name}: first different line {line:?}");
         }
+        checked.insert((db.name(), size, tessellate.is_some()));
+    }
+    for line in std::fs::read_to_string(format!("{dir}/large.sha256")).unwrap().lines() {
+        let (digest, name) = line.split_once("  ").unwrap();
+        let (db, size, tessellate) = case_of(name);
+        let ours = db.write(size, Precision::Spd, tessellate, Vec::new()).unwrap();
+        let hex: String = sha2::Sha256::digest(&ours).iter().map(|b| format!("{b:02x}")).collect();
+        assert_eq!(hex, digest, "{name}");
+        checked.insert((db.name(), size, tessellate.is_some()));
+    }
+    // Every database at sizes 1 and 2 and its default, tessellated too at
+    // 1 and 2 where that differs.
+    for &db in <Database as strum::VariantArray>::VARIANTS {
+        let curved = matches!(
+            db,
+            Database::Balls
+                | Database::Jacks
+                | Database::Lattice
+                | Database::Mount
+                | Database::Rings
+                | Database::Shells
+                | Database::Tree
+        );
+        for size in [1, 2] {
+            assert!(checked.contains(&(db.name(), size, false)), "{} -s {size} unchecked", db.name());
+            assert!(
+                !curved || checked.contains(&(db.name(), size, true)),
+                "{} -s {size} -t unchecked",
+                db.name()
+            );
+        }
+        assert!(checked.contains(&(db.name(), db.default_size(), false)), "{} default unchecked", db.name());
     }
 }
 
 #[test]
-fn tessellated_output_is_the_c_programs_byte_for_byte() {
-    // (database, file, resolution asked): jacks uses 2 whatever is asked.
-    let cases = [
-        (Database::Balls, "balls_s1_t3", 3),
-        (Database::Jacks, "jacks_s1_t", 3),
-        (Database::Lattice, "lattice_s1_t3", 3),
-        (Database::Mount, "mount_s1_t3", 3),
-        (Database::Tree, "tree_s1_t3", 3),
-        (Database::Rings, "rings_s1_t1", 1),
-    ];
-    for (db, file, res) in cases {
-        let ours = db.write(1, Precision::Spd, Some(res), Vec::new()).unwrap();
-        assert!(ours == fixture(&format!("tessellated/{file}")), "{file}");
-        let scene = nff::parse(&ours, &ParseOptions::default()).unwrap().scene;
-        assert!(
-            scene.primitives.iter().all(|p| !matches!(
-                p.shape,
-                nffkit_formats::Shape::Sphere { .. } | nffkit_formats::Shape::Cone { .. }
-            )),
-            "{file}: nothing curved left"
-        );
-    }
-    // Where nothing is curved, tessellating changes nothing.
-    for db in [Database::Gears, Database::Sombrero, Database::Teapot, Database::Tetra] {
-        assert_eq!(
-            db.write(1, Precision::Spd, Some(3), Vec::new()).unwrap(),
-            generate(db, 1, Precision::Spd),
-            "{}",
-            db.name()
-        );
+fn tessellating_leaves_scenes_without_curves_alone_and_nothing_curved_in_the_rest() {
+    let curved = |p: &nffkit_formats::Primitive| {
+        matches!(p.shape, nffkit_formats::Shape::Sphere { .. } | nffkit_formats::Shape::Cone { .. })
+    };
+    for &db in <Database as strum::VariantArray>::VARIANTS {
+        let tessellated = db.write(1, Precision::Spd, Some(2), Vec::new()).unwrap();
+        let scene = nff::parse(&tessellated, &ParseOptions::default()).unwrap().scene;
+        assert!(!scene.primitives.iter().any(curved), "{}: nothing curved left", db.name());
+        let plain = generate(db, 1, Precision::Spd);
+        let had_curves =
+            nff::parse(&plain, &ParseOptions::default()).unwrap().scene.primitives.iter().any(curved);
+        assert_eq!(tessellated == plain, !had_curves, "{}", db.name());
     }
 }
 
@@ -136,7 +164,10 @@ fn full_precision_keeps_every_digit_and_the_command_line_streams_and_checks() {
     assert_eq!(o.stdout, fixture("tetra_s2"));
     let o = spd(&["mount", "-s", "3", "--precision", "spd", "-o", "m.nff"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert_eq!(std::fs::read(dir.path().join("m.nff")).unwrap(), fixture("mount_s3"));
+    assert_eq!(
+        std::fs::read(dir.path().join("m.nff")).unwrap(),
+        generate(Database::Mount, 3, Precision::Spd)
+    );
     let o = spd(&["mount", "--size", "40"]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success() && err.contains("--size 40: mount takes sizes 1 to"), "{err}");
