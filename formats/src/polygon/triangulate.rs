@@ -71,13 +71,29 @@ pub fn drop_repeats(v: &[DVec3], triangles: &mut Vec<[u32; 3]>) -> usize {
     if triangles.len() < 2 {
         return 0;
     }
-    let before = triangles.len();
-    let mut seen = std::collections::HashSet::with_capacity(before);
-    triangles.retain(|t| {
+    let key = |t: &[u32; 3]| {
         let mut key = t.map(|i| v[i as usize].to_array().map(f64::to_bits));
         key.sort_unstable();
-        seen.insert(key)
-    });
+        key
+    };
+    let before = triangles.len();
+    // Most polygons are small: their keys fit on the stack, no table.
+    const SMALL: usize = 16;
+    if before <= SMALL {
+        let (mut seen, mut count) = ([[[0u64; 3]; 3]; SMALL], 0);
+        triangles.retain(|t| {
+            let k = key(t);
+            let new = !seen[..count].contains(&k);
+            if new {
+                seen[count] = k;
+                count += 1;
+            }
+            new
+        });
+    } else {
+        let mut seen = std::collections::HashSet::with_capacity(before);
+        triangles.retain(|t| seen.insert(key(t)));
+    }
     before - triangles.len()
 }
 
@@ -306,6 +322,12 @@ mod tests {
         assert!(!tris.is_empty());
         let dropped = drop_repeats(&v, &mut tris);
         assert_eq!(tris.len(), 1, "{dropped} dropped");
+        // Three times round: few enough triangles for the table on the stack.
+        let v: Vec<DVec3> = (0..9).map(|k| t[k % 3]).collect();
+        let mut tris = triangulate(&v);
+        assert!((2..=16).contains(&tris.len()), "{}", tris.len());
+        drop_repeats(&v, &mut tris);
+        assert_eq!(tris.len(), 1);
         let square = [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
         let mut tris = triangulate(&square);
         assert_eq!((drop_repeats(&square, &mut tris), tris.len()), (0, 2));

@@ -68,7 +68,9 @@ fn run(a: &Args) -> Result<()> {
     if let Some(o) = &a.output {
         Outputs::new().file("-o", o)?;
     }
-    cli_util::write_output(a.output.as_deref(), |w| db.write(size, g.precision, g.tessellate, w).map(|_| ()))
+    cli_util::write_output(a.output.as_deref(), |w| {
+        db.write(size, g.precision, g.resolution(), w).map(|_| ())
+    })
 }
 
 fn main() -> ExitCode {

@@ -98,9 +98,9 @@ impl Emission {
         self.emitters.is_empty()
     }
 
-    /// The lights' positions.
-    pub fn positions(&self) -> impl Iterator<Item = DVec3> + '_ {
-        self.emitters.iter().map(|e| e.position)
+    /// How many lights the emitters make.
+    pub fn len(&self) -> usize {
+        self.emitters.len()
     }
 
     /// NFF lights whose colours add up to `total` in the brightest channel.
@@ -143,7 +143,7 @@ impl Emission {
         let want = e.clamp(DVec3::ZERO, DVec3::ONE);
         let ratio = DVec3::select(lit.cmpgt(DVec3::ZERO), want / lit, DVec3::ZERO);
         let kd = ratio.max_element();
-        if !(kd > 0.0 && kd.is_finite()) || lit.max_element() <= 0.0 {
+        if !(kd > 0.0 && kd.is_finite()) {
             return None;
         }
         let kd = kd.min(MAX_KD);
@@ -183,11 +183,7 @@ fn emitters(mesh: &Mesh, pos: &[DVec3], mirrored: bool) -> Vec<Emitter> {
     let mut verts = Vec::new();
     for f in &mesh.faces {
         let Some(e) = f.emission else { continue };
-        verts.clear();
-        verts.extend(mesh.corners_of(f).iter().map(|c| pos[c.position as usize]));
-        if mirrored {
-            verts.reverse();
-        }
+        super::placed_corners(mesh, f, pos, mirrored, &mut verts);
         let Some(n) = emitting_normal(mesh, f, &verts, mirrored) else { continue };
         let e = DVec3::from_array(e.map(f64::from));
         for t in triangulate(&verts) {

@@ -154,6 +154,16 @@ impl Placement {
     }
 }
 
+/// The corners of face `f` at positions `pos` into `verts`, re-wound when
+/// the placement `mirrored` the model (so it keeps facing out).
+fn placed_corners(mesh: &Mesh, f: &Face, pos: &[DVec3], mirrored: bool, verts: &mut Vec<DVec3>) {
+    verts.clear();
+    verts.extend(mesh.corners_of(f).iter().map(|c| pos[c.position as usize]));
+    if mirrored {
+        verts.reverse();
+    }
+}
+
 /// Area-weighted normals per position, from the faces that lack normals.
 fn smooth_normals(mesh: &Mesh, pos: &[DVec3]) -> Vec<DVec3> {
     let mut n = vec![DVec3::ZERO; pos.len()];
@@ -285,7 +295,7 @@ pub fn convert(mesh: &Mesh, o: &Options) -> Result<Converted> {
             // The emitting faces' look depends on their lights' strength.
             faces = body(staged.emission_total, &mut summary)?.0;
         }
-        summary.emission_lights = if emission.is_empty() { 0 } else { emission.lights(1.0).len() };
+        summary.emission_lights = emission.len();
         w.background(nffkit_formats::SPD_SKY)?;
         w.view(&staged.view)?;
         for l in &staged.lights {
@@ -443,7 +453,7 @@ fn lit_by_emission(
 ) -> (Staged, Vec<Light>) {
     let weighed: Vec<probe::Weighing> = candidates.iter().map(|(v, l)| probe.weigh(v, emission, l)).collect();
     let alone = o.lights != Lights::Auto || has_punctual || weighed.iter().any(|w| w.share > EMISSION_ALONE);
-    let n = emission.lights(1.0).len();
+    let n = emission.len();
     let what = format!("{n} light{} from emitting faces", plural(n));
     let (pick, total) = if alone {
         let mut best = 0;
@@ -555,11 +565,7 @@ fn write_faces<W: Write>(
         let mirrored = o.scale < 0.0;
         let key = |f: &Face, verts: &mut Vec<DVec3>| {
             f.emission?;
-            verts.clear();
-            verts.extend(mesh.corners_of(f).iter().map(|c| pos[c.position as usize]));
-            if mirrored {
-                verts.reverse();
-            }
+            placed_corners(mesh, f, pos, mirrored, verts);
             Some(color_key(mesh, f, verts, mirrored, &lights))
         };
         mesh.faces.iter().map(|f| key(f, &mut verts)).collect()
@@ -572,9 +578,8 @@ fn write_faces<W: Write>(
     for i in order {
         let f = &mesh.faces[i];
         let corners = mesh.corners_of(f);
-        verts.clear();
+        placed_corners(mesh, f, pos, o.scale < 0.0, &mut verts);
         norms.clear();
-        verts.extend(corners.iter().map(|c| pos[c.position as usize]));
         let normal_of = |c: &Corner| -> Option<DVec3> {
             if o.flat {
                 None
@@ -587,9 +592,8 @@ fn write_faces<W: Write>(
             norms.extend(corners.iter().map(|c| normal_of(c).unwrap()));
         }
         if o.scale < 0.0 {
-            // A negative scale mirrors (all three axes): re-wind the face and
-            // turn its normals so it keeps facing out.
-            verts.reverse();
+            // A negative scale mirrors (all three axes): the corners are
+            // re-wound above; their normals turn to keep facing out.
             norms.reverse();
             norms.iter_mut().for_each(|n| *n = -*n);
         }

@@ -21,7 +21,7 @@ pub fn primitives(size: u32) -> u64 {
 /// Write the database.
 pub fn write(out: &mut Out<'_>, size: u32) -> io::Result<()> {
     let radius = 1.0;
-    out.background(DVec3::new(0.078, 0.361, 0.753))?;
+    out.background(nffkit_formats::SPD_SKY)?;
     out.viewpoint(DVec3::new(2.1, 1.3, 1.7), DVec3::ZERO, DVec3::Z, 45.0, 0.01, [512, 512])?;
     for l in [DVec3::new(4.0, 3.0, 2.0), DVec3::new(1.0, -4.0, 4.0), DVec3::new(-3.0, 1.0, 5.0)] {
         out.light(l)?;

@@ -26,7 +26,7 @@ pub fn primitives(size: u32) -> u64 {
 
 /// Write the database.
 pub fn write(out: &mut Out<'_>, size: u32) -> io::Result<()> {
-    out.background(DVec3::new(0.078, 0.361, 0.753))?;
+    out.background(nffkit_formats::SPD_SKY)?;
     out.viewpoint(DVec3::new(-1.1, -2.1, 2.6), DVec3::ZERO, DVec3::Z, 45.0, 1.0, [512, 512])?;
     for l in [
         DVec3::new(2.0, 4.0, 4.0),

@@ -22,7 +22,7 @@ pub fn write(out: &mut Out<'_>, size: u32) -> io::Result<()> {
     let radius1 = 1.0 / 4.0 / sf;
     let radius2 = 1.0 / 16.0 / sf;
     let delta = (radius1 * (1.0 - ((1.0f64 / 16.0) / (1.0 / 4.0)).sqrt())) * 0.99;
-    out.background(DVec3::new(0.078, 0.361, 0.753))?;
+    out.background(nffkit_formats::SPD_SKY)?;
     let mid = (f64::from(size >> 1) + 0.5) * inv;
     let from = DVec3::new(mid, 1.0, 1.0 - 1.0 / f64::from(size << 1));
     let at = DVec3::new(mid, -1.0, -1.0 - 1.0 / f64::from(size << 1));

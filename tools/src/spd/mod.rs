@@ -213,9 +213,9 @@ pub struct Generate {
     /// SPD's -t), RES × RES quadrilaterals per cube face of a sphere and
     /// 4·RES sides per cylinder or cone [default RES: 3, the SPD's; jacks
     /// always uses 2, as its program does].
-    #[arg(short, long, value_name = "RES", num_args = 0..=1, default_missing_value = "3",
+    #[arg(short, long, value_name = "RES", num_args = 0..=1,
           value_parser = clap::value_parser!(u32).range(1..=1000))]
-    pub tessellate: Option<u32>,
+    pub tessellate: Option<Option<u32>>,
     /// How numbers are written.
     #[arg(long, value_enum, default_value_t = Precision::Full)]
     pub precision: Precision,
@@ -242,9 +242,28 @@ impl Generate {
         Ok((db, size))
     }
 
+    /// The tessellation resolution asked for, if any (`--tessellate`
+    /// alone: [`DEFAULT_RESOLUTION`]).
+    pub fn resolution(&self) -> Option<u32> {
+        self.tessellate.map(|res| res.unwrap_or(DEFAULT_RESOLUTION))
+    }
+
     /// Write the scene to `w`.
     pub fn write<W: Write>(&self, w: W) -> anyhow::Result<W> {
         let (db, size) = self.checked()?;
-        Ok(db.write(size, self.precision, self.tessellate, w)?)
+        Ok(db.write(size, self.precision, self.resolution(), w)?)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::ValueEnum;
+
+    #[test]
+    fn each_database_finds_its_own_program() {
+        for db in Database::value_variants() {
+            assert_eq!(db.name(), db.to_possible_value().unwrap().get_name());
+        }
     }
 }

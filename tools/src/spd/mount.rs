@@ -31,7 +31,7 @@ const WIDTH: f64 = 2.0;
 
 /// Write the database.
 pub fn write(out: &mut Out<'_>, size: u32) -> io::Result<()> {
-    out.background(DVec3::new(0.078, 0.361, 0.753))?;
+    out.background(nffkit_formats::SPD_SKY)?;
     out.viewpoint(DVec3::new(-1.6, 1.6, 1.7), DVec3::ZERO, DVec3::Z, 45.0, 0.01, [512, 512])?;
     out.light(DVec3::new(-100.0, -100.0, 100.0))?;
     out.color(DVec3::ONE, 0.1, 0.1, 6.7, 0.9, 1.5)?;

@@ -109,13 +109,6 @@ fn exact_six_digits(a: f64) -> ([u8; 6], i32) {
     (digits, exponent.parse().expect("{:e} exponent is an integer"))
 }
 
-/// `x` as C's `%g` writes it.
-pub fn g(x: f64) -> String {
-    let mut s = String::new();
-    push_g(&mut s, x);
-    s
-}
-
 /// Drop the trailing zeros of the fraction of the number written from
 /// `start`, and the point if nothing follows it.
 fn trim_zeros(out: &mut String, start: usize) {
@@ -128,6 +121,12 @@ fn trim_zeros(out: &mut String, start: usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn g(x: f64) -> String {
+        let mut s = String::new();
+        push_g(&mut s, x);
+        s
+    }
 
     #[test]
     fn numbers_read_as_glibc_printf_g_writes_them() {

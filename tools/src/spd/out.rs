@@ -52,40 +52,40 @@ struct Transform {
 /// repeat values (grid coordinates, shared corners), and an exact decimal
 /// conversion costs far more than a lookup.
 struct Recent {
-    bits: Vec<u64>,
-    text: Vec<[u8; 24]>,
-    len: Vec<u8>,
+    slots: Vec<Slot>,
+}
+
+/// A number's bits and its text; an empty slot has length 0, which no
+/// number's text has.
+#[derive(Clone, Copy)]
+struct Slot {
+    bits: u64,
+    len: u8,
+    text: [u8; 23],
 }
 
 impl Recent {
-    const SLOTS: usize = 4096;
+    /// Slots, indexed by the top 12 bits of a multiplicative hash.
+    const SLOTS: usize = 1 << 12;
 
     fn new() -> Recent {
-        // An empty slot has length 0, which no number's text has.
-        Recent {
-            bits: vec![u64::MAX; Self::SLOTS],
-            text: vec![[0; 24]; Self::SLOTS],
-            len: vec![0; Self::SLOTS],
-        }
+        Recent { slots: vec![Slot { bits: 0, len: 0, text: [0; 23] }; Self::SLOTS] }
     }
 
     /// Append `x` in `%g` to `out`, from the table when it is there.
     fn push(&mut self, out: &mut String, x: f64) {
         let bits = x.to_bits();
-        let slot = (bits.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 52) as usize % Self::SLOTS;
-        if self.bits[slot] == bits && self.len[slot] > 0 {
-            let text = &self.text[slot][..self.len[slot] as usize];
-            out.push_str(std::str::from_utf8(text).expect("stored from a str"));
+        let slot = &mut self.slots[(bits.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 52) as usize];
+        if slot.bits == bits && slot.len > 0 {
+            out.push_str(std::str::from_utf8(&slot.text[..slot.len as usize]).expect("stored from a str"));
             return;
         }
         let start = out.len();
         push_g(out, x);
         let text = &out.as_bytes()[start..];
-        if text.len() <= 24 {
-            self.bits[slot] = bits;
-            self.text[slot][..text.len()].copy_from_slice(text);
-            self.len[slot] = text.len() as u8;
-        }
+        // %g's longest text, -1.23457e-308, is 13 bytes.
+        *slot = Slot { bits, len: text.len() as u8, text: [0; 23] };
+        slot.text[..text.len()].copy_from_slice(text);
     }
 }
 
@@ -118,7 +118,7 @@ impl<W: Write> SpdOut<W> {
     pub fn set_transform(&mut self, m: Option<&Matrix>) {
         self.transform = m.map(|m| {
             let row = DVec3::new(m[0][0] / m[3][3], m[0][1] / m[3][3], m[0][2] / m[3][3]);
-            Transform { m: *m, inverse: invert(m), scale: row.dot(row).sqrt().abs() }
+            Transform { m: *m, inverse: invert(m), scale: row.dot(row).sqrt() }
         });
     }
 
@@ -135,12 +135,15 @@ impl<W: Write> SpdOut<W> {
         }
     }
 
-    /// The keyword then the numbers, space separated, and a newline.
+    /// The keyword (if any) then the numbers, space separated, and a
+    /// newline.
     fn entity(&mut self, keyword: &str, numbers: &[f64]) -> io::Result<()> {
         self.line.clear();
         self.line.push_str(keyword);
         for &x in numbers {
-            self.line.push(' ');
+            if !self.line.is_empty() {
+                self.line.push(' ');
+            }
             self.num(x);
         }
         self.line.push('\n');
@@ -274,15 +277,7 @@ impl<W: Write> SpdOut<W> {
     pub fn patch(&mut self, v: &[DVec3; 3], n: &[DVec3; 3]) -> io::Result<()> {
         self.w.write_all(b"pp 3\n")?;
         for (p, m) in v.iter().zip(n) {
-            self.line.clear();
-            for (k, x) in [p.x, p.y, p.z, m.x, m.y, m.z].into_iter().enumerate() {
-                if k > 0 {
-                    self.line.push(' ');
-                }
-                self.num(x);
-            }
-            self.line.push('\n');
-            self.w.write_all(self.line.as_bytes())?;
+            self.entity("", &[p.x, p.y, p.z, m.x, m.y, m.z])?;
         }
         Ok(())
     }
@@ -290,14 +285,7 @@ impl<W: Write> SpdOut<W> {
     fn write_polygon(&mut self, v: &[DVec3]) -> io::Result<()> {
         writeln!(self.w, "p {}", v.len())?;
         for p in v {
-            self.line.clear();
-            self.num(p.x);
-            self.line.push(' ');
-            self.num(p.y);
-            self.line.push(' ');
-            self.num(p.z);
-            self.line.push('\n');
-            self.w.write_all(self.line.as_bytes())?;
+            self.entity("", &p.to_array())?;
         }
         Ok(())
     }

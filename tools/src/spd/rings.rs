@@ -25,7 +25,7 @@ pub fn write(out: &mut Out<'_>, size: u32) -> io::Result<()> {
     let spread = 1.0 / (PI / 8.0).sin();
     // SPREAD_OUT is 1, never above `spread`.
     let (y_diff, xz_diff) = (spread / 1.0, 1.0);
-    out.background(DVec3::new(0.078, 0.361, 0.753))?;
+    out.background(nffkit_formats::SPD_SKY)?;
     let from = DVec3::new(-1.0, -spread, 0.5);
     let at = DVec3::new(from.x, from.y + 1.0, from.z);
     out.viewpoint(from, at, DVec3::Z, 45.0, 1.0, [512, 512])?;

@@ -32,7 +32,7 @@ pub fn primitives(size: u32) -> u64 {
 
 /// Write the database.
 pub fn write(out: &mut Out<'_>, size: u32) -> io::Result<()> {
-    out.background(DVec3::new(0.078, 0.361, 0.753))?;
+    out.background(nffkit_formats::SPD_SKY)?;
     out.viewpoint(
         DVec3::new(-6.0, -60.0, 35.0),
         DVec3::new(0.0, 8.0, -15.0),

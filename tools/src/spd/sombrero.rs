@@ -22,7 +22,7 @@ pub fn primitives(size: u32) -> u64 {
 
 /// Write the database.
 pub fn write(out: &mut Out<'_>, size: u32) -> io::Result<()> {
-    out.background(DVec3::new(0.078, 0.361, 0.753))?;
+    out.background(nffkit_formats::SPD_SKY)?;
     out.viewpoint(DVec3::new(0.0, 5.0, -8.0), DVec3::ZERO, DVec3::Z, 40.0, 0.01, [512, 512])?;
     out.light(DVec3::new(10.0, 10.0, -10.0))?;
     out.color(DVec3::new(1.0, 0.1, 0.1), 0.8, 0.0, 40.0, 0.0, 1.0)?;

@@ -4,7 +4,7 @@
 //! checkerboard of size × size squares: many small patches with normals,
 //! seen from both sides.
 
-use super::matrix::{multiply, transform_coord, Matrix};
+use super::matrix::{multiply, normalize, transform_coord, Matrix};
 use super::out::{Out, SpdOut};
 use super::teapot_data::{PATCHES, VERTICES};
 use glam::DVec3;
@@ -26,7 +26,7 @@ const BEZIER: Matrix =
 
 /// Write the database.
 pub fn write(out: &mut Out<'_>, size: u32) -> io::Result<()> {
-    out.background(DVec3::new(0.078, 0.361, 0.753))?;
+    out.background(nffkit_formats::SPD_SKY)?;
     out.viewpoint(DVec3::new(4.86, 7.2, 5.4), DVec3::ZERO, DVec3::Z, 45.0, 1.0, [512, 512])?;
     out.light(DVec3::new(-3.1, 9.8, 12.1))?;
     out.light(DVec3::new(11.3, 5.1, 8.8))?;
@@ -126,13 +126,9 @@ fn point_on(mgm: &[Matrix; 3], s: f64, t: f64) -> (DVec3, DVec3) {
         sdir[i] = dot4(transform_coord(dsp, &mgm[i]), tp);
         tdir[i] = dot4(transform_coord(sp, &mgm[i]), dtp);
     }
-    let (t_dir, s_dir) = (DVec3::from_array(tdir), DVec3::from_array(sdir));
-    let n = DVec3::new(
-        t_dir.y * s_dir.z - t_dir.z * s_dir.y,
-        t_dir.z * s_dir.x - t_dir.x * s_dir.z,
-        t_dir.x * s_dir.y - t_dir.y * s_dir.x,
-    );
-    (DVec3::from_array(vert), super::matrix::normalize(n))
+    // glam's cross is the C's CROSS bit for bit (its products commute).
+    let n = DVec3::from_array(tdir).cross(DVec3::from_array(sdir));
+    (DVec3::from_array(vert), normalize(n))
 }
 
 /// teapot.c `check_for_cusp`: a triangle with two corners on the axis is

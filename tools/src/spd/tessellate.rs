@@ -23,16 +23,8 @@ pub fn sphere(centre: DVec3, radius: f64, res: u32, mut emit: impl FnMut(Patch))
     let x_axis: Vec<DVec3> = (0..=n).map(|k| axis_at(k, DVec3::X, Axis::Y)).collect();
     let y_axis: Vec<DVec3> = (0..=n).map(|k| axis_at(k, DVec3::Y, Axis::X)).collect();
     // The grid on the +Z face: x_axis[u] × y_axis[v], normalised.
-    let mut pt: Vec<Vec<DVec3>> = (0..=n)
-        .map(|u| {
-            (0..=n)
-                .map(|v| {
-                    let (a, b) = (x_axis[u], y_axis[v]);
-                    normalize(DVec3::new(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x))
-                })
-                .collect()
-        })
-        .collect();
+    let mut pt: Vec<Vec<DVec3>> =
+        (0..=n).map(|u| (0..=n).map(|v| normalize(x_axis[u].cross(y_axis[v]))).collect()).collect();
     for face in 0..6 {
         // libvec.c `lib_rotate_cube_face` about Z (its axis 2): each face
         // turns the previous face's grid.
@@ -84,14 +76,9 @@ pub fn cone(
     let axis = apex - base;
     let height = axis.dot(axis).sqrt();
     let norm_axis = normalize(axis);
-    let cross =
-        |a: DVec3, b: DVec3| DVec3::new(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
-    let start = cross(axis, DVec3::Z);
-    let start_dir = if start.dot(start).sqrt().abs() < 1.0e-6 {
-        normalize(cross(axis, DVec3::X))
-    } else {
-        normalize(start)
-    };
+    let start = axis.cross(DVec3::Z);
+    let start_dir =
+        if start.dot(start).sqrt() < 1.0e-6 { normalize(axis.cross(DVec3::X)) } else { normalize(start) };
     let radius = [start_dir * base_radius, start_dir * apex_radius];
     let mut vert = [DVec3::ZERO; 3];
     vert[2] = base + radius[0];

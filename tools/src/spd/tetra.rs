@@ -17,7 +17,7 @@ pub fn primitives(size: u32) -> u64 {
 
 /// Write the database.
 pub fn write(out: &mut Out<'_>, size: u32) -> io::Result<()> {
-    out.background(DVec3::new(0.078, 0.361, 0.753))?;
+    out.background(nffkit_formats::SPD_SKY)?;
     out.viewpoint(
         DVec3::new(1.022846, -3.177154, -2.174512),
         DVec3::new(-0.004103, -0.004103, 0.216539),

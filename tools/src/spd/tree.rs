@@ -21,7 +21,7 @@ const WIDTH_HEIGHT_RATIO: f64 = 0.15;
 
 /// Write the database.
 pub fn write(out: &mut Out<'_>, size: u32) -> io::Result<()> {
-    out.background(DVec3::new(0.078, 0.361, 0.753))?;
+    out.background(nffkit_formats::SPD_SKY)?;
     out.viewpoint(DVec3::new(4.5, 0.4, 2.0), DVec3::new(0.0, 0.0, 1.5), DVec3::Z, 45.0, 1.0, [512, 512])?;
     for l in [
         DVec3::new(-5.0, 5.0, 50.0),
