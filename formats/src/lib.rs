@@ -1,5 +1,5 @@
-//! nffkit's file layer: the [`Scene`] data model, the NFF reader and writer
-//! ([`nff`]), OBJ and glTF import ([`mesh`]), and image files ([`image_io`]).
+//! nffkit's file layer: the [`Scene`] data model, the NFF (and P3F) reader
+//! and writer ([`nff`], [`dialect`] between the two), OBJ and glTF import ([`mesh`]), and image files ([`image_io`]).
 //!
 //! This crate knows nothing about ray tracing. It turns bytes into plain
 //! records (with the source line each came from) and back; the `tracer` crate
@@ -8,6 +8,7 @@
 #![deny(missing_docs)]
 
 pub mod atomic;
+pub mod dialect;
 #[doc(hidden)]
 pub mod fuzzing;
 pub mod image_io;
@@ -25,4 +26,7 @@ pub fn plural(n: usize) -> &'static str {
     }
 }
 
-pub use scene::{Color, Light, Material, Primitive, Scene, Shape, ShapeKind, SourceLine, View, SPD_SKY};
+pub use scene::{
+    Color, Dialect, Directives, Lens, Light, LightArea, Material, Primitive, Scene, Shape, ShapeKind,
+    SourceLine, View, SPD_SKY,
+};

@@ -40,6 +40,69 @@ pub struct View {
     pub hither: f64,
     /// Image size in pixels, x then y.
     pub resolution: [u32; 2],
+    /// P3F's `aperture` and `focal` lines: a thin lens. `None` in NFF, and
+    /// in a P3F view without them (a pinhole).
+    pub lens: Option<Lens>,
+}
+
+impl View {
+    /// The side of one pixel of a `width` x `height` image on an image
+    /// plane at unit distance, as `dialect` reads `angle`: in NFF (the
+    /// spec) it spans the centres of the outer pixels of the smaller side,
+    /// so there are `n - 1` pixels across it; in P3F (the course's camera)
+    /// it spans the image height edge to edge. Pixels are square.
+    pub fn pixel_size(&self, dialect: Dialect, width: u32, height: u32) -> f64 {
+        let span = 2.0 * (self.angle.to_radians() * 0.5).tan();
+        match dialect {
+            Dialect::Nff => {
+                let n = width.min(height);
+                if n > 1 {
+                    span / (n - 1) as f64
+                } else {
+                    span
+                }
+            }
+            Dialect::P3f => span / height.max(1) as f64,
+        }
+    }
+}
+
+/// P3F's thin lens, in the file's own units (docs/p3f.md).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lens {
+    /// Lens radius as a multiple of the pixel size on the view plane (the
+    /// plane through `at`); 0 is a pinhole.
+    pub aperture: f64,
+    /// Distance in focus as a multiple of the view-plane distance
+    /// (`|at - from|`).
+    pub focal: f64,
+}
+
+/// The language a scene was written in. It decides what the view's
+/// `angle` spans, whether transmitters weigh reflection by Fresnel's
+/// equations, and how the scene is written back.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, strum::Display, strum::EnumString, strum::VariantArray,
+)]
+#[strum(serialize_all = "lowercase")]
+pub enum Dialect {
+    /// Eric Haines' Neutral File Format (with the 2017 course's `pl` and
+    /// `aabb`).
+    #[default]
+    Nff,
+    /// The P3D course's P3F: NFF plus specular colours, area lights, a
+    /// lens, a cube map and render directives (docs/p3f.md).
+    P3f,
+}
+
+/// P3F's directives: what the file asks of the renderer, defaults the
+/// command line overrides.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Directives {
+    /// `spp N`: samples per pixel.
+    pub spp: Option<u32>,
+    /// `accel N`: 0 none, 1 uniform grid, 2 BVH (the course's numbering).
+    pub accel: Option<u32>,
 }
 
 /// A positional light (`l x y z [r g b]`).
@@ -50,13 +113,28 @@ pub struct Light {
     /// Colour, when the file gives one. Without it the renderer chooses an
     /// intensity (SPD's exporters use 1/sqrt(number of lights)).
     pub color: Option<Color>,
+    /// P3F's `al`: the light is a rectangle centred on `position`.
+    pub area: Option<LightArea>,
+}
+
+/// The rectangle of a P3F area light (`al`), centred on the light's
+/// position.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LightArea {
+    /// The point the rectangle faces (its normal points there).
+    pub facing: DVec3,
+    /// Width and height.
+    pub size: [f64; 2],
 }
 
 /// The `f` line: colour and classic Whitted shading terms.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Material {
-    /// Surface colour.
+    /// Surface (diffuse) colour.
     pub color: Color,
+    /// Colour of the highlight and the reflection: white in NFF; P3F's
+    /// `f` gives it.
+    pub specular: Color,
     /// Diffuse weight.
     pub kd: f64,
     /// Specular weight (highlights and mirror reflection).
@@ -73,7 +151,7 @@ pub struct Material {
 impl Default for Material {
     /// White, fully diffuse: what primitives before any `f` line get.
     fn default() -> Self {
-        Material { color: DVec3::ONE, kd: 1.0, ks: 0.0, shine: 1.0, t: 0.0, ior: 1.0 }
+        Material { color: DVec3::ONE, specular: DVec3::ONE, kd: 1.0, ks: 0.0, shine: 1.0, t: 0.0, ior: 1.0 }
     }
 }
 
@@ -254,6 +332,8 @@ pub const SPD_SKY: DVec3 = DVec3::new(0.078, 0.361, 0.753);
 /// [`crate::nff::write`] relies on it to write each `f` line once.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Scene {
+    /// The language it was written in.
+    pub dialect: Dialect,
     /// The camera, absent in a fragment.
     pub view: Option<View>,
     /// Background colour; `None` means the file gave none (black).
@@ -264,6 +344,11 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// Primitives in file order.
     pub primitives: Vec<Primitive>,
+    /// P3F's `env DIR`: a folder of six cube-map images, as written
+    /// (relative to the scene file).
+    pub environment: Option<String>,
+    /// P3F's render directives.
+    pub directives: Directives,
 }
 
 impl Scene {

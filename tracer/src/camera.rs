@@ -101,6 +101,7 @@ mod tests {
 
     fn view(angle: f64) -> View {
         View {
+            lens: None,
             from: DVec3::new(0.0, 0.0, 0.0),
             at: DVec3::new(0.0, 0.0, -10.0),
             up: DVec3::new(0.0, 1.0, 0.3), // not perpendicular on purpose

@@ -767,6 +767,7 @@ fn convert_material(m: ::gltf::Material) -> Material {
     let (kd, ks) = whitted_terms(metallic, roughness);
     Material {
         color: DVec3::new(r as f64, g as f64, b as f64),
+        specular: DVec3::ONE,
         kd,
         ks,
         shine: (2.0 / (alpha * alpha) - 2.0).clamp(1.0, 10000.0),

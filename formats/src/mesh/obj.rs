@@ -524,6 +524,7 @@ fn convert_material(m: &tobj::Material) -> Material {
     };
     Material {
         color,
+        specular: DVec3::ONE,
         kd: kd_w,
         ks: ks.iter().copied().fold(0.0, f64::max),
         shine: m.shininess.unwrap_or(1.0).max(1.0),

@@ -8,10 +8,11 @@
 //! whether objects were already seen. Materials are renumbered at the join
 //! (a primitive before its chunk's first `f` takes the previous chunk's
 //! last material). Everything that would make the reader *say* something
-//! that depends on earlier chunks (a light or view after the first object, a
-//! second view, no view at all), and any diagnostic at all, sends the file
-//! back to the sequential reader, so the result and the diagnostics are
-//! always exactly those of reading it in one piece.
+//! that depends on earlier chunks (a light or view after the first object,
+//! a second view, a second `env`, `spp` or `accel`, no view at all), and
+//! any diagnostic at all, sends the file back to the sequential reader, so
+//! the result and the diagnostics are always exactly those of reading it
+//! in one piece. P3F's `mesh` is never cut: its lines hold only numbers.
 
 use super::lexer::line_breaks;
 use super::parse::{parse_chunk, primitives_hint, ParseOptions, Parsed, ENTITY_KEYWORDS};
@@ -117,9 +118,13 @@ fn join(parts: Vec<(Scene, bool)>, opts: &ParseOptions) -> Option<Parsed> {
     }
     for (part, quiet) in parts {
         let objects_before = !scene.primitives.is_empty();
+        let twice = |a: bool, b: bool| a && b;
         if !quiet
             || (part.view.is_some() && (scene.view.is_some() || objects_before))
             || (!part.lights.is_empty() && objects_before)
+            || twice(part.environment.is_some(), scene.environment.is_some())
+            || twice(part.directives.spp.is_some(), scene.directives.spp.is_some())
+            || twice(part.directives.accel.is_some(), scene.directives.accel.is_some())
         {
             return None;
         }
@@ -136,6 +141,9 @@ fn join(parts: Vec<(Scene, bool)>, opts: &ParseOptions) -> Option<Parsed> {
         scene.lights.extend(part.lights);
         scene.background = part.background.or(scene.background);
         scene.view = part.view.or(scene.view);
+        scene.environment = part.environment.or(scene.environment);
+        scene.directives.spp = part.directives.spp.or(scene.directives.spp);
+        scene.directives.accel = part.directives.accel.or(scene.directives.accel);
     }
     if scene.view.is_none() && !opts.fragment {
         return None;

@@ -1,8 +1,8 @@
 //! The NFF writer. [`NffWriter`] streams entities one at a time (generators
 //! write millions of spheres without holding them); [`write`] writes a whole
-//! [`Scene`].
+//! [`Scene`], in its own dialect (NFF or the course's P3F).
 
-use crate::scene::{Light, Material, Scene, Shape, View};
+use crate::scene::{Dialect, Light, Material, Scene, Shape, View};
 use glam::DVec3;
 use std::io::{self, Write};
 
@@ -18,15 +18,28 @@ pub fn format_number(x: f64) -> String {
     }
 }
 
-/// Writes NFF entities in the spec's layout.
+/// Writes NFF (or P3F) entities in the spec's layout.
 pub struct NffWriter<W: Write> {
     out: W,
+    dialect: Dialect,
 }
 
 impl<W: Write> NffWriter<W> {
     /// A writer over any byte sink (wrap files in a `BufWriter`).
     pub fn new(out: W) -> Self {
-        NffWriter { out }
+        NffWriter { out, dialect: Dialect::Nff }
+    }
+
+    /// A writer of `dialect`: in P3F, the background is `bclr`, views
+    /// end with their lens, lights carry their area and `f` its specular
+    /// colour (NFF drops what it cannot hold: [`crate::dialect::to_nff`]
+    /// says what, and writes the closest NFF).
+    pub fn with_dialect(out: W, dialect: Dialect) -> Self {
+        NffWriter { out, dialect }
+    }
+
+    fn p3f(&self) -> bool {
+        self.dialect == Dialect::P3f
     }
 
     /// The sink back, for flushing or inspection.
@@ -59,7 +72,7 @@ impl<W: Write> NffWriter<W> {
 
     /// `b r g b`.
     pub fn background(&mut self, c: DVec3) -> io::Result<()> {
-        self.vec("b ", c)
+        self.vec(if self.p3f() { "bclr " } else { "b " }, c)
     }
 
     /// The `v` block.
@@ -72,11 +85,25 @@ impl<W: Write> NffWriter<W> {
         self.nums(&[v.angle])?;
         self.out.write_all(b"hither ")?;
         self.nums(&[v.hither])?;
-        writeln!(self.out, "resolution {} {}", v.resolution[0], v.resolution[1])
+        writeln!(self.out, "resolution {} {}", v.resolution[0], v.resolution[1])?;
+        match v.lens.filter(|_| self.p3f()) {
+            Some(lens) => {
+                self.out.write_all(b"aperture ")?;
+                self.nums(&[lens.aperture])?;
+                self.out.write_all(b"focal ")?;
+                self.nums(&[lens.focal])
+            }
+            None => Ok(()),
+        }
     }
 
     /// `l x y z [r g b]`.
     pub fn light(&mut self, l: &Light) -> io::Result<()> {
+        if let (Some(area), true) = (l.area, self.p3f()) {
+            let (p, a, c) = (l.position, area.facing, l.color.unwrap_or(DVec3::ONE));
+            self.out.write_all(b"al ")?;
+            return self.nums(&[p.x, p.y, p.z, a.x, a.y, a.z, area.size[0], area.size[1], c.x, c.y, c.z]);
+        }
         match l.color {
             None => self.vec("l ", l.position),
             Some(c) => {
@@ -89,7 +116,11 @@ impl<W: Write> NffWriter<W> {
     /// `f r g b Kd Ks Shine T ior`.
     pub fn material(&mut self, m: &Material) -> io::Result<()> {
         self.out.write_all(b"f ")?;
-        self.nums(&[m.color.x, m.color.y, m.color.z, m.kd, m.ks, m.shine, m.t, m.ior])
+        let (c, s) = (m.color, m.specular);
+        if self.p3f() {
+            return self.nums(&[c.x, c.y, c.z, m.kd, s.x, s.y, s.z, m.ks, m.shine, m.t, m.ior]);
+        }
+        self.nums(&[c.x, c.y, c.z, m.kd, m.ks, m.shine, m.t, m.ior])
     }
 
     /// `s x y z r`.
@@ -116,6 +147,20 @@ impl<W: Write> NffWriter<W> {
         Ok(())
     }
 
+    /// P3F's directives and `env` line.
+    fn directives(&mut self, scene: &Scene) -> io::Result<()> {
+        if let Some(n) = scene.directives.accel {
+            writeln!(self.out, "accel {n}")?;
+        }
+        if let Some(n) = scene.directives.spp {
+            writeln!(self.out, "spp {n}")?;
+        }
+        match &scene.environment {
+            Some(dir) => writeln!(self.out, "env {dir}"),
+            None => Ok(()),
+        }
+    }
+
     /// Any shape. Cones use the spec's three-line layout.
     pub fn shape(&mut self, s: &Shape) -> io::Result<()> {
         match s {
@@ -132,7 +177,7 @@ impl<W: Write> NffWriter<W> {
                 self.nums(&[a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z])
             }
             Shape::Box { min, max } => {
-                self.out.write_all(b"aabb ")?;
+                self.out.write_all(if self.p3f() { b"box " } else { b"aabb " })?;
                 self.nums(&[min.x, min.y, min.z, max.x, max.y, max.z])
             }
         }
@@ -143,7 +188,10 @@ impl<W: Write> NffWriter<W> {
 /// primitives in order, each `f` line once, before the first primitive that
 /// uses it.
 pub fn write<W: Write>(scene: &Scene, out: W) -> io::Result<W> {
-    let mut w = NffWriter::new(out);
+    let mut w = NffWriter::with_dialect(out, scene.dialect);
+    if w.p3f() {
+        w.directives(scene)?;
+    }
     if let Some(b) = scene.background {
         w.background(b)?;
     }

@@ -5,6 +5,7 @@
 mod course_and_recovery;
 mod fuzz_regressions;
 mod malformed;
+mod p3f;
 mod parallel_parse;
 mod properties;
 mod spd_fixtures;

@@ -1,9 +1,11 @@
 //! Property tests: the reader never panics on any bytes, and the writer
-//! round-trips any scene exactly.
+//! round-trips any scene exactly, NFF or P3F.
 
 use glam::DVec3;
 use nffkit_formats::nff::{self, ParseOptions};
-use nffkit_formats::{Light, Material, Primitive, Scene, Shape, SourceLine, View};
+use nffkit_formats::{
+    Dialect, Directives, Lens, Light, LightArea, Material, Primitive, Scene, Shape, SourceLine, View,
+};
 use proptest::prelude::*;
 
 fn num() -> impl Strategy<Value = f64> {
@@ -39,6 +41,7 @@ fn shape() -> impl Strategy<Value = Shape> {
 
 fn material() -> impl Strategy<Value = Material> {
     (vec3(), num(), num(), num(), num(), num()).prop_map(|(color, kd, ks, shine, t, ior)| Material {
+        specular: glam::DVec3::ONE,
         color,
         kd,
         ks,
@@ -58,7 +61,7 @@ prop_compose! {
         hither in 0.0..10.0f64,
         res in (1u32..4000, 1u32..4000),
     ) -> Scene {
-        let view = View {
+        let view = View { lens: None,
             from: DVec3::new(1.5, -2.0, 3.25), at: DVec3::ZERO, up: DVec3::Z,
             angle, hither, resolution: [res.0, res.1],
         };
@@ -79,9 +82,59 @@ prop_compose! {
         }).collect();
         Scene {
             view: Some(view), background,
-            lights: lights.into_iter().map(|(position, color)| Light { position, color }).collect(),
-            materials, primitives,
+            lights: lights.into_iter().map(|(position, color)| Light { area: None, position, color }).collect(),
+            materials, primitives, ..Scene::default()
         }
+    }
+}
+
+fn area() -> impl Strategy<Value = Option<LightArea>> {
+    prop::option::of(
+        (vec3(), 0.0..10.0f64, 0.0..10.0f64).prop_map(|(facing, w, h)| LightArea {
+            facing: facing + DVec3::new(0.0, 0.0, 3.0e7),
+            size: [w, h],
+        }),
+    )
+}
+
+prop_compose! {
+    /// A P3F scene: what an NFF one holds (each light with a colour, as the
+    /// course's reader wants), plus specular colours, area lights, a lens,
+    /// boxes, a cube map and the directives.
+    fn p3f_scene()(
+        base in scene(),
+        colours in prop::collection::vec((vec3(), area()), 4),
+        speculars in prop::collection::vec(vec3(), 4),
+        lens in (0.0..50.0f64, 0.01..10.0f64),
+        boxes in prop::collection::vec((vec3(), (0.0..9.0f64, 0.0..9.0f64, 0.0..9.0f64)), 0..3),
+        environment in prop::option::of("[a-z_./]{1,12}"),
+        spp in prop::option::of(1u32..=65536),
+        accel in prop::option::of(0u32..3),
+    ) -> Scene {
+        let mut s = base;
+        s.dialect = Dialect::P3f;
+        if let Some(v) = &mut s.view {
+            v.lens = Some(Lens { aperture: lens.0, focal: lens.1 });
+        }
+        for (l, (c, a)) in s.lights.iter_mut().zip(colours) {
+            l.color = Some(c);
+            // Facing a point other than its centre, whatever the magnitudes.
+            let z = l.position.z;
+            let facing = |f: DVec3| DVec3::new(f.x, f.y, if z.abs() > 1.0 { -z } else { z + 3.0 });
+            l.area = a.map(|a| LightArea { facing: facing(a.facing), ..a });
+        }
+        for (m, c) in s.materials.iter_mut().zip(speculars.into_iter().cycle()) {
+            m.specular = c;
+        }
+        let material = s.primitives.last().and_then(|p| p.material);
+        s.primitives.extend(boxes.into_iter().map(|(min, (x, y, z))| Primitive {
+            shape: Shape::Box { min, max: min + DVec3::new(x, y, z) },
+            material,
+            line: SourceLine(0),
+        }));
+        s.environment = environment;
+        s.directives = Directives { spp, accel };
+        s
     }
 }
 
@@ -92,6 +145,15 @@ proptest! {
     fn write_then_parse_is_identity(s in scene()) {
         let text = nff::write(&s, Vec::new()).unwrap();
         let back = nff::parse(&text, &ParseOptions::default());
+        let back = back.map_err(|e| TestCaseError::fail(format!("{e}\n{}", String::from_utf8_lossy(&text))))?;
+        prop_assert_eq!(back.scene, s);
+    }
+
+    #[test]
+    fn p3f_write_then_parse_is_identity(s in p3f_scene()) {
+        let text = nff::write(&s, Vec::new()).unwrap();
+        let opts = ParseOptions { dialect: Dialect::P3f, ..ParseOptions::default() };
+        let back = nff::parse(&text, &opts);
         let back = back.map_err(|e| TestCaseError::fail(format!("{e}\n{}", String::from_utf8_lossy(&text))))?;
         prop_assert_eq!(back.scene, s);
     }
@@ -117,6 +179,7 @@ proptest! {
     fn arbitrary_bytes_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..512)) {
         let _ = nff::parse(&bytes, &ParseOptions::default());
         let _ = nff::parse(&bytes, &ParseOptions { lenient: true, fragment: true, ..Default::default() });
+        let _ = nff::parse(&bytes, &ParseOptions { dialect: Dialect::P3f, ..Default::default() });
     }
 
     #[test]
@@ -126,10 +189,14 @@ proptest! {
             Just("from"), Just("at"), Just("up"), Just("angle"), Just("hither"), Just("resolution"),
             Just("0"), Just("1"), Just("-1"), Just("3"), Just("1e300"), Just("nan"), Just("#"), Just("\n"),
             Just("4000000000"), Just(".5"), Just("x"),
+            Just("bclr"), Just("al"), Just("box"), Just("mesh"), Just("env"), Just("spp"), Just("accel"),
+            Just("aperture"), Just("focal"), Just("-4"), Just("0"),
         ], 0..200)
     ) {
         let src = toks.join(" ");
         let _ = nff::parse(src.as_bytes(), &ParseOptions::default());
+        let _ = nff::parse(src.as_bytes(), &ParseOptions { dialect: Dialect::P3f, ..Default::default() });
+        let _ = nff::parse(src.as_bytes(), &ParseOptions { dialect: Dialect::P3f, strict: true, ..Default::default() });
         let _ = nff::parse(src.as_bytes(), &ParseOptions { lenient: true, fragment: true, ..Default::default() });
     }
 }

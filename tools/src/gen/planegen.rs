@@ -87,7 +87,15 @@ impl Board {
 
     /// The two materials, colour 1 then colour 2.
     pub fn materials(&self) -> [Material; 2] {
-        let m = |color| Material { color, kd: self.kd, ks: self.ks, shine: self.shine, t: 0.0, ior: 1.0 };
+        let m = |color| Material {
+            specular: glam::DVec3::ONE,
+            color,
+            kd: self.kd,
+            ks: self.ks,
+            shine: self.shine,
+            t: 0.0,
+            ior: 1.0,
+        };
         [m(self.c1), m(self.c2)]
     }
 
@@ -133,6 +141,7 @@ impl Board {
         let c = DVec3::new(self.center.x, self.center.y, self.z);
         let size = self.sx.max(self.sy);
         let view = View {
+            lens: None,
             from: c + DVec3::new(0.0, -0.62 * size, 0.2 * size),
             at: c + DVec3::new(0.0, 0.0, 0.0),
             up: DVec3::Z,
@@ -144,6 +153,7 @@ impl Board {
             view: Some(view),
             background: Some(nffkit_formats::SPD_SKY),
             lights: vec![Light {
+                area: None,
                 position: c + DVec3::new(0.25 * size, -0.4 * size, 0.8 * size),
                 color: None,
             }],

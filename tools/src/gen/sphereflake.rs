@@ -121,12 +121,28 @@ pub fn for_each_sphere(level: u32, f: &mut dyn FnMut(DVec3, f64) -> io::Result<(
 
 /// The material of the floor square.
 pub fn floor_material() -> Material {
-    Material { color: DVec3::new(1.0, 0.75, 0.33), kd: 0.8, ks: 0.0, shine: 100000.0, t: 0.0, ior: 1.0 }
+    Material {
+        specular: glam::DVec3::ONE,
+        color: DVec3::new(1.0, 0.75, 0.33),
+        kd: 0.8,
+        ks: 0.0,
+        shine: 100000.0,
+        t: 0.0,
+        ior: 1.0,
+    }
 }
 
 /// The material of the spheres.
 pub fn sphere_material() -> Material {
-    Material { color: DVec3::new(1.0, 0.9, 0.7), kd: 0.5, ks: 0.5, shine: 3.0827, t: 0.0, ior: 1.0 }
+    Material {
+        specular: glam::DVec3::ONE,
+        color: DVec3::new(1.0, 0.9, 0.7),
+        kd: 0.5,
+        ks: 0.5,
+        shine: 3.0827,
+        t: 0.0,
+        ior: 1.0,
+    }
 }
 
 impl Sphereflake {
@@ -166,6 +182,7 @@ impl Sphereflake {
     fn header(&self) -> Scene {
         let mut scene = Scene {
             view: Some(View {
+                lens: None,
                 from: DVec3::new(2.1, 1.3, 1.7),
                 at: DVec3::ZERO,
                 up: DVec3::Z,
@@ -176,7 +193,7 @@ impl Sphereflake {
             background: Some(nffkit_formats::SPD_SKY),
             lights: [(4.0, 3.0, 2.0), (1.0, -4.0, 4.0), (-3.0, 1.0, 5.0)]
                 .iter()
-                .map(|&(x, y, z)| Light { position: DVec3::new(x, y, z), color: None })
+                .map(|&(x, y, z)| Light { area: None, position: DVec3::new(x, y, z), color: None })
                 .collect(),
             ..Default::default()
         };

@@ -106,7 +106,10 @@ impl Emission {
     /// NFF lights whose colours add up to `total` in the brightest channel.
     pub fn lights(&self, total: f64) -> Vec<Light> {
         let scale = total / self.brightest;
-        self.emitters.iter().map(|e| Light { position: e.position, color: Some(e.power * scale) }).collect()
+        self.emitters
+            .iter()
+            .map(|e| Light { area: None, position: e.position, color: Some(e.power * scale) })
+            .collect()
     }
 
     /// What the emitters give point `p` on a diffuse surface, in the units

@@ -29,7 +29,7 @@ pub fn lights(mesh: &Mesh, place: impl Fn(DVec3) -> DVec3, bounds: (DVec3, DVec3
                 "directional" => centre - l.direction * far,
                 _ => place(l.position),
             };
-            Light { position, color: Some(l.power.max(DVec3::ZERO) / brightest) }
+            Light { area: None, position, color: Some(l.power.max(DVec3::ZERO) / brightest) }
         })
         .collect()
 }

@@ -59,6 +59,7 @@ pub fn framing(b: (DVec3, DVec3), o: &Options, dir: DVec3) -> (View, Vec<Light>)
     let from = center + dir * dist;
     let right = (-dir).cross(up).normalize_or(DVec3::X);
     let view = View {
+        lens: None,
         from,
         at: center,
         up,
@@ -67,8 +68,12 @@ pub fn framing(b: (DVec3, DVec3), o: &Options, dir: DVec3) -> (View, Vec<Light>)
         resolution: o.resolution.unwrap_or([512, 512]),
     };
     let lights = vec![
-        Light { position: from + (up * 1.5 + right * 1.0) * radius * 2.0, color: None },
-        Light { position: center + (up * 1.0 - right * 2.0 + dir * 0.5) * radius * 3.0, color: None },
+        Light { area: None, position: from + (up * 1.5 + right * 1.0) * radius * 2.0, color: None },
+        Light {
+            area: None,
+            position: center + (up * 1.0 - right * 2.0 + dir * 0.5) * radius * 3.0,
+            color: None,
+        },
     ];
     (view, lights)
 }
@@ -111,6 +116,7 @@ pub fn camera_view(
     // field, so it is put level with the model's centre.
     let dist = (focus - from).dot(direction).max(cam.znear.max(1e-9) * scale.abs() * 10.0);
     View {
+        lens: None,
         from,
         at: from + direction * dist,
         up: cam.up * s,
@@ -122,7 +128,7 @@ pub fn camera_view(
 
 /// A light at the eye.
 pub fn eye_light(view: &View, color: Option<DVec3>) -> Light {
-    Light { position: view.from, color }
+    Light { area: None, position: view.from, color }
 }
 
 /// Whether the eye lies inside box `b`.

@@ -370,7 +370,12 @@ impl RenderArgs {
     }
 
     fn parse_options(&self) -> ParseOptions {
-        ParseOptions { lenient: self.lenient, fragment: self.fragment, strict: self.strict }
+        ParseOptions {
+            dialect: Default::default(),
+            lenient: self.lenient,
+            fragment: self.fragment,
+            strict: self.strict,
+        }
     }
 
     fn part(&self) -> Option<PartSpec> {

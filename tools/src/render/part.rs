@@ -400,6 +400,7 @@ mod tests {
     /// settings and the bottom with `change` applied: the error, if any.
     fn merge_halves(change: impl Fn(&mut RenderSettings, &mut PrepareOptions)) -> Option<String> {
         let view = nffkit_formats::View {
+            lens: None,
             from: glam::DVec3::new(0.0, -5.0, 0.0),
             at: glam::DVec3::ZERO,
             up: glam::DVec3::Z,
@@ -471,6 +472,7 @@ mod tests {
     #[test]
     fn every_pixel_setting_has_its_test() {
         let view = nffkit_formats::View {
+            lens: None,
             from: glam::DVec3::Y,
             at: glam::DVec3::ZERO,
             up: glam::DVec3::Z,

@@ -25,8 +25,15 @@ struct OddLine<'a> {
 
 impl Entity {
     /// How many numbers the entity takes, for "extra value" messages.
-    fn takes(&self) -> &'static str {
+    fn takes(&self, p3f: bool) -> &'static str {
         match self.keyword {
+            "f" if p3f => "a P3F material takes 11 numbers",
+            "l" if p3f => "a P3F light takes 6 numbers: a position and a colour",
+            "bclr" => "a background takes 3 numbers",
+            "al" => "an area light takes 11 numbers: centre, the point it faces, width, height, colour",
+            "mesh" => "a mesh takes two counts, 3 numbers per vertex and 3 indices per triangle",
+            "env" => "`env` takes one folder name",
+            "spp" | "accel" => "a directive takes one whole number",
             "v" => {
                 "a view's `from`, `at` and `up` take 3 numbers each, `angle` and `hither` 1, `resolution` 2"
             }
@@ -38,7 +45,8 @@ impl Entity {
             "p" => "a polygon takes a count and 3 numbers per vertex",
             "pp" => "a patch takes a count and 6 numbers per vertex",
             "pl" => "a plane takes 9 numbers",
-            _ => "a box takes 6 numbers",
+            "aabb" | "box" => "a box takes 6 numbers",
+            _ => "see docs/p3f.md for what each entity takes",
         }
     }
 }
@@ -64,7 +72,7 @@ impl<'a> Parser<'a> {
             t,
             format!("extra value `{}` after the `{}` on line {}", t.display(), e.keyword, e.line),
         );
-        d.note = Some(e.takes().to_string());
+        d.note = Some(e.takes(self.opts.dialect == crate::scene::Dialect::P3f).to_string());
         d
     }
 

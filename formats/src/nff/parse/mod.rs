@@ -10,14 +10,18 @@
 //! [`ParseOptions::strict`] is set: `pl x1 y1 z1 x2 y2 z2 x3 y3 z3`, the
 //! infinite plane through three points, and `aabb xmin ymin zmin xmax ymax
 //! zmax`, an axis-aligned box. Each use is reported as a note.
+//!
+//! With [`ParseOptions::dialect`] P3F, the course's own language is read
+//! (its entities in `p3f.rs`, its view lines in `view.rs`).
 
 mod misplaced;
+mod p3f;
 mod view;
 
 use super::diag::{Diagnostic, Severity};
 use super::geometry_checks;
 use super::lexer::{Lexer, Token};
-use crate::scene::{Light, Material, Primitive, Scene, Shape, SourceLine, MAX_COORDINATE};
+use crate::scene::{Dialect, Light, Material, Primitive, Scene, Shape, SourceLine, MAX_COORDINATE};
 
 use glam::DVec3;
 use std::fmt;
@@ -31,9 +35,12 @@ pub struct ParseOptions {
     /// The file is a fragment meant to be appended to another scene, so a
     /// missing `v` block is not an error.
     pub fragment: bool,
-    /// The plain NFF.TXT language: the course extensions `pl` and `aabb`
-    /// are errors.
+    /// The plain language: in NFF the course extensions `pl` and `aabb`
+    /// are errors; in P3F what the course's description does not hold
+    /// (extra `f` values, unknown directives) is an error, not a warning.
     pub strict: bool,
+    /// NFF or the course's P3F.
+    pub dialect: Dialect,
 }
 
 /// A successfully read scene and its warnings.
@@ -221,11 +228,22 @@ const MAX_RESOLUTION: u64 = 1 << 16;
 pub(super) const ENTITY_KEYWORDS: [&str; 8] = ["v", "b", "l", "f", "c", "s", "p", "pp"];
 /// The 2017 course's extensions (see the module doc).
 const EXTENSION_KEYWORDS: [&str; 2] = ["pl", "aabb"];
-const VIEW_KEYWORDS: [&[u8]; 6] = [b"from", b"at", b"up", b"angle", b"hither", b"resolution"];
+/// P3F's own entities and directives.
+pub(crate) const P3F_KEYWORDS: [&str; 7] = ["bclr", "al", "box", "mesh", "env", "spp", "accel"];
+/// The view's lines: NFF's six, then P3F's two.
+const VIEW_KEYWORDS: [&[u8]; 8] =
+    [b"from", b"at", b"up", b"angle", b"hither", b"resolution", b"aperture", b"focal"];
+/// How many of [`VIEW_KEYWORDS`] NFF has.
+const NFF_VIEW_LINES: usize = 6;
 
-/// The entity keyword (NFF's or an extension's) that `t` is, if any.
+/// The entity keyword (NFF's, an extension's or P3F's) that `t` is, if any.
 fn entity_keyword(t: &[u8]) -> Option<&'static str> {
-    ENTITY_KEYWORDS.iter().chain(&EXTENSION_KEYWORDS).find(|k| k.as_bytes() == t).copied()
+    ENTITY_KEYWORDS
+        .iter()
+        .chain(&EXTENSION_KEYWORDS)
+        .chain(&P3F_KEYWORDS)
+        .find(|k| k.as_bytes() == t)
+        .copied()
 }
 
 fn is_entity_keyword(t: &[u8]) -> bool {
@@ -239,7 +257,7 @@ fn is_recovery_point(t: &Token) -> bool {
     is_entity_keyword(t.text)
         || (t.starts_line
             && t.text.first().is_some_and(|b| b.is_ascii_alphabetic())
-            && !VIEW_KEYWORDS.contains(&t.text)
+            && !VIEW_KEYWORDS[..NFF_VIEW_LINES].contains(&t.text)
             && parse_number(t.text).is_none())
 }
 
@@ -255,6 +273,8 @@ enum What<'s> {
     Text(&'s str),
     Vertex { normal: bool, i: u64, n: u64 },
     FValue(usize),
+    P3fValue(usize),
+    MeshVertex { i: u64, n: u64 },
 }
 
 impl What<'_> {
@@ -265,6 +285,8 @@ impl What<'_> {
             What::Vertex { normal: false, i, n } => format!("a coordinate of vertex {} of {n}", i + 1),
             What::Vertex { normal: true, i, n } => format!("a normal component of vertex {} of {n}", i + 1),
             What::FValue(i) => format!("`f` value {} ({})", i + 1, F_NAMES[i]),
+            What::P3fValue(i) => format!("`f` value {} ({})", i + 1, p3f::F_NAMES[i]),
+            What::MeshVertex { i, n } => format!("a coordinate of mesh vertex {} of {n}", i + 1),
         }
     }
 }
@@ -318,7 +340,7 @@ impl<'a> Parser<'a> {
             lexer,
             peeked: None,
             opts,
-            scene: Scene::default(),
+            scene: Scene { dialect: opts.dialect, ..Scene::default() },
             diags: Vec::new(),
             errors: 0,
             first_object_line: None,
@@ -512,14 +534,22 @@ impl<'a> Parser<'a> {
             return self.unknown(t);
         };
         let e = Entity { keyword: kw, line: t.line };
+        let p3f = self.opts.dialect == Dialect::P3f;
+        if P3F_KEYWORDS.contains(&kw) && !p3f {
+            return self.unknown(t);
+        }
         self.read = Some(t);
         match kw {
+            "f" if p3f => self.p3f_material(e),
+            "l" if p3f => self.p3f_light(t, e),
+            "bclr" => self.background(e),
+            "al" => self.area_light(t, e),
+            "box" => self.aabb(t, e),
+            "mesh" => self.mesh(t, e),
+            "env" => self.environment(t, e),
+            "spp" | "accel" => self.directive(t, e),
             "v" => self.view(t, e),
-            "b" => {
-                let c = self.vec3(What::Text("a colour component"), e)?;
-                self.scene.background = Some(c);
-                Ok(())
-            }
+            "b" => self.background(e),
             "l" => self.light(t, e),
             "f" => self.material(e),
             "s" => {
@@ -540,19 +570,37 @@ impl<'a> Parser<'a> {
 
     fn unknown(&mut self, t: Token<'a>) -> Res<()> {
         let number = parse_number(t.text).is_some();
+        let p3f = self.opts.dialect == Dialect::P3f;
         let mut d = match self.read.filter(|_| number) {
             Some(read) => self.extra_value(&t, read),
-            None => {
+            None if p3f => {
                 let mut d = self.error_at(&t, format!("unknown entity `{}`", t.display()));
                 d.note = Some(
-                    "NFF entities are v, b, l, f, c, s, p, pp (and the extensions pl, aabb); \
-                     --lenient skips unknown ones"
+                    "P3F entities are v, bclr, env, l, al, f, s, c, p, pp, pl, box, mesh, spp, accel; \
+                     without --strict an unknown one is skipped"
                         .into(),
                 );
                 d
             }
+            None => {
+                let mut d = self.error_at(&t, format!("unknown entity `{}`", t.display()));
+                d.note = Some(if P3F_KEYWORDS.contains(&&*String::from_utf8_lossy(t.text)) {
+                    format!(
+                        "`{}` is P3F, the P3D course's language: read the file as P3F (a .p3f name, \
+                         or --dialect p3f)",
+                        t.display()
+                    )
+                } else {
+                    "NFF entities are v, b, l, f, c, s, p, pp (and the extensions pl, aabb); \
+                     --lenient skips unknown ones"
+                        .into()
+                });
+                d
+            }
         };
-        if !self.opts.lenient {
+        // P3F files carry students' own extensions: skipped with a warning
+        // unless --strict.
+        if !(self.opts.lenient || (p3f && !self.opts.strict)) {
             return Err(d);
         }
         d.severity = Severity::Warning;
@@ -605,18 +653,23 @@ impl<'a> Parser<'a> {
         let has_color = self.peek().is_some_and(|n| parse_number(n.text).is_some());
         let color =
             if has_color { Some(self.vec3(What::Text("a light colour component"), e)?) } else { None };
-        if position.abs().max_element() > MAX_COORDINATE {
+        self.push_light(&t, Light { position, color, area: None });
+        Ok(())
+    }
+
+    /// Add a light, warning where single precision cannot place it.
+    fn push_light(&mut self, t: &Token<'a>, light: Light) {
+        let far = light.position.abs().max_element();
+        if far > MAX_COORDINATE {
             self.warn(
-                &t,
+                t,
                 format!(
-                    "the light's position has a coordinate of {:e}, beyond what single-precision \
-                     rendering holds (at most {MAX_COORDINATE:e}); renders leave it out",
-                    position.abs().max_element()
+                    "the light's position has a coordinate of {far:e}, beyond what single-precision \
+                     rendering holds (at most {MAX_COORDINATE:e}); renders leave it out"
                 ),
             );
         }
-        self.scene.lights.push(Light { position, color });
-        Ok(())
+        self.scene.lights.push(light);
     }
 
     fn material(&mut self, e: Entity) -> Res<()> {
@@ -633,6 +686,7 @@ impl<'a> Parser<'a> {
         }
         self.scene.materials.push(Material {
             color: DVec3::new(v[0], v[1], v[2]),
+            specular: DVec3::ONE,
             kd: v[3],
             ks: v[4],
             shine: v[5],
@@ -695,9 +749,16 @@ impl<'a> Parser<'a> {
         Ok(())
     }
 
-    /// `pl` and `aabb`: the course extensions (module doc).
+    fn background(&mut self, e: Entity) -> Res<()> {
+        let c = self.vec3(What::Text("a colour component"), e)?;
+        self.scene.background = Some(c);
+        Ok(())
+    }
+
+    /// `pl` and `aabb`: the course extensions (module doc), native in P3F.
     fn extension(&mut self, t: Token<'a>, e: Entity) -> Res<()> {
-        if self.opts.strict {
+        let p3f = self.opts.dialect == Dialect::P3f;
+        if self.opts.strict && !p3f {
             let mut d = self.error_at(&t, format!("`{}` is not NFF (--strict)", e.keyword));
             d.note = Some(
                 "`pl` (plane through three points) and `aabb` (axis-aligned box) are extensions \
@@ -706,34 +767,42 @@ impl<'a> Parser<'a> {
             );
             return Err(d);
         }
-        let shape = if e.keyword == "pl" {
-            let what = What::Text("a plane point coordinate");
-            let points = [self.vec3(what, e)?, self.vec3(what, e)?, self.vec3(what, e)?];
-            let [a, b, c] = points;
-            if (b - a).cross(c - a).length_squared() == 0.0 {
-                return Err(
-                    self.error_at(&t, "the three points of `pl` lie on one line: they make no plane".into())
-                );
-            }
+        if e.keyword != "pl" {
+            return self.aabb(t, e);
+        }
+        let what = What::Text("a plane point coordinate");
+        let points = [self.vec3(what, e)?, self.vec3(what, e)?, self.vec3(what, e)?];
+        let [a, b, c] = points;
+        if (b - a).cross(c - a).length_squared() == 0.0 {
+            return Err(
+                self.error_at(&t, "the three points of `pl` lie on one line: they make no plane".into())
+            );
+        }
+        if !p3f {
             self.note(&t, "`pl` (infinite plane through three points) is a course extension to NFF".into());
-            Shape::Plane { points }
-        } else {
-            let what = What::Text("a box corner coordinate");
-            let (lo, hi) = (self.vec3(what, e)?, self.vec3(what, e)?);
-            if lo.cmpgt(hi).any() {
-                self.warn(
-                    &t,
-                    "`aabb` corners are not min then max on every axis; using them as opposite corners"
-                        .into(),
-                );
-            }
-            if lo.cmpeq(hi).any() {
-                self.warn(&t, "`aabb` box is flat (zero extent on an axis)".into());
-            }
+        }
+        self.object(t, Shape::Plane { points });
+        Ok(())
+    }
+
+    /// `aabb` (and P3F's `box`): an axis-aligned box.
+    fn aabb(&mut self, t: Token<'a>, e: Entity) -> Res<()> {
+        let what = What::Text("a box corner coordinate");
+        let (lo, hi) = (self.vec3(what, e)?, self.vec3(what, e)?);
+        let kw = e.keyword;
+        if lo.cmpgt(hi).any() {
+            self.warn(
+                &t,
+                format!("`{kw}` corners are not min then max on every axis; using them as opposite corners"),
+            );
+        }
+        if lo.cmpeq(hi).any() {
+            self.warn(&t, format!("`{kw}` box is flat (zero extent on an axis)"));
+        }
+        if self.opts.dialect == Dialect::Nff {
             self.note(&t, "`aabb` (axis-aligned box) is a course extension to NFF".into());
-            Shape::Box { min: lo.min(hi), max: lo.max(hi) }
-        };
-        self.object(t, shape);
+        }
+        self.object(t, Shape::Box { min: lo.min(hi), max: lo.max(hi) });
         Ok(())
     }
 

@@ -1,12 +1,13 @@
 //! The `v` block: its lines read in any order, every error in it
 //! reported, and its values checked (a view direction, an `up` off it,
 //! numbers the renderer's single precision holds), with the cause named
-//! where a length overflows or underflows.
+//! where a length overflows or underflows. A P3F view ends with two more
+//! lines, `aperture` and `focal` (the lens).
 
-use super::{is_recovery_point, Entity, Parser, Res, What, MAX_RESOLUTION, VIEW_KEYWORDS};
+use super::{is_recovery_point, Entity, Parser, Res, What, MAX_RESOLUTION, NFF_VIEW_LINES, VIEW_KEYWORDS};
 use crate::nff::diag::{Diagnostic, Severity};
 use crate::nff::lexer::Token;
-use crate::scene::{View, MAX_COORDINATE};
+use crate::scene::{Dialect, Lens, View, MAX_COORDINATE};
 use glam::DVec3;
 
 /// The values of a view block as they are read.
@@ -17,7 +18,12 @@ struct ViewValues {
     angle: f64,
     hither: f64,
     res: [u32; 2],
+    /// P3F's aperture and focal ratio.
+    lens: [f64; 2],
 }
+
+/// Index of `aperture` in [`VIEW_KEYWORDS`].
+const APERTURE: usize = 6;
 
 impl<'a> Parser<'a> {
     /// The `v` block. Every error in it is reported: a broken line is
@@ -29,12 +35,14 @@ impl<'a> Parser<'a> {
             self.warn(&t, "second view (`v`); it replaces the first".into());
         }
         self.warn_if_after_objects(&t, "view");
-        let mut seen: [Option<Token<'a>>; 6] = [None; 6];
-        let mut ok = [false; 6];
-        let mut v = ViewValues::default();
+        let mut seen: [Option<Token<'a>>; 8] = [None; 8];
+        let mut ok = [false; 8];
+        let mut v = ViewValues { lens: [0.0, 1.0], ..ViewValues::default() };
         let mut errors = Vec::new();
+        let p3f = self.opts.dialect == Dialect::P3f;
+        let lines = if p3f { &VIEW_KEYWORDS[..] } else { &VIEW_KEYWORDS[..NFF_VIEW_LINES] };
         while let Some(k) = self.peek() {
-            let Some(i) = VIEW_KEYWORDS.iter().position(|w| *w == k.text) else { break };
+            let Some(i) = lines.iter().position(|w| *w == k.text) else { break };
             self.bump();
             if seen[i].is_some() {
                 self.warn(&k, format!("`{}` given twice in one view; the last one counts", k.display()));
@@ -45,7 +53,7 @@ impl<'a> Parser<'a> {
                 Err(d) => {
                     errors.push(d);
                     while let Some(n) = self.peek() {
-                        if VIEW_KEYWORDS.contains(&n.text) || is_recovery_point(&n) {
+                        if lines.contains(&n.text) || is_recovery_point(&n) {
                             break;
                         }
                         self.bump();
@@ -53,16 +61,17 @@ impl<'a> Parser<'a> {
                 }
             }
         }
-        for i in (0..6).filter(|&i| seen[i].is_none() && i != 4) {
+        for i in (0..NFF_VIEW_LINES).filter(|&i| seen[i].is_none() && i != 4) {
             errors.push(self.missing_view_line(i, &seen));
         }
         if seen[4].is_none() {
             self.warn(&t, "the view has no `hither` line; using 0".into());
         }
+        let lens = p3f.then(|| self.lens_lines(&t, &seen, &ok, &mut errors, v.lens)).flatten();
         errors.extend(self.check_view(&seen, &ok, &mut v));
         let Some(last) = errors.pop() else {
-            let ViewValues { vecs: [from, at, up], angle, hither, res } = v;
-            self.scene.view = Some(View { from, at, up, angle, hither, resolution: res });
+            let ViewValues { vecs: [from, at, up], angle, hither, res, .. } = v;
+            self.scene.view = Some(View { from, at, up, angle, hither, resolution: res, lens });
             return Ok(());
         };
         for d in errors {
@@ -80,6 +89,13 @@ impl<'a> Parser<'a> {
             }
             3 => v.angle = self.number(What::Text("the field of view angle in degrees"), e)?,
             4 => v.hither = self.number(What::Text("the hither distance"), e)?,
+            6 => {
+                v.lens[0] = self.number(What::Text("the lens aperture (a multiple of the pixel size)"), e)?
+            }
+            7 => {
+                v.lens[1] =
+                    self.number(What::Text("the focal distance (a multiple of the view-plane distance)"), e)?
+            }
             _ => {
                 for r in &mut v.res {
                     *r = self.count("a resolution in pixels", 1, MAX_RESOLUTION, e)?.0 as u32;
@@ -91,12 +107,12 @@ impl<'a> Parser<'a> {
 
     /// "expected `at`, found `up`": at the next view line present, or at
     /// whatever follows the block.
-    fn missing_view_line(&mut self, i: usize, seen: &[Option<Token<'a>>; 6]) -> Diagnostic {
+    fn missing_view_line(&mut self, i: usize, seen: &[Option<Token<'a>>; 8]) -> Diagnostic {
         let kw = String::from_utf8_lossy(VIEW_KEYWORDS[i]);
         let note = Some(
             "a view is: v, from x y z, at x y z, up x y z, angle deg, hither d, resolution w h".to_string(),
         );
-        let found = seen[i + 1..].iter().flatten().next().copied().or_else(|| self.peek());
+        let found = seen[i + 1..NFF_VIEW_LINES].iter().flatten().next().copied().or_else(|| self.peek());
         match found {
             Some(f) => {
                 let mut d =
@@ -115,12 +131,49 @@ impl<'a> Parser<'a> {
         }
     }
 
+    /// P3F's lens from its `aperture` and `focal` lines (`[aperture,
+    /// focal]` as read, or their defaults 0 and 1): checked, and `None`
+    /// (a pinhole) when the view has neither, with a warning, as the
+    /// course's reader expects both.
+    fn lens_lines(
+        &mut self,
+        t: &Token<'a>,
+        seen: &[Option<Token<'a>>; 8],
+        ok: &[bool; 8],
+        errors: &mut Vec<Diagnostic>,
+        [aperture, focal]: [f64; 2],
+    ) -> Option<Lens> {
+        let (a, f) = (seen[APERTURE], seen[APERTURE + 1]);
+        if a.is_none() || f.is_none() {
+            let missing = match (a, f) {
+                (None, None) => "`aperture` and `focal` lines",
+                (None, _) => "`aperture` line (using 0, a pinhole)",
+                _ => "`focal` line (using 1, focus on `at`)",
+            };
+            self.warn(t, format!("the view has no {missing}; the course's view ends with both"));
+            if a.is_none() && f.is_none() {
+                return None;
+            }
+        }
+        if let (Some(at), true) = (a, ok[APERTURE]) {
+            if aperture < 0.0 {
+                errors.push(self.error_at(&at, format!("`aperture` must not be negative, found {aperture}")));
+            }
+        }
+        if let (Some(at), true) = (f, ok[APERTURE + 1]) {
+            if focal <= 0.0 {
+                errors.push(self.error_at(&at, format!("`focal` must be greater than 0, found {focal}")));
+            }
+        }
+        Some(Lens { aperture, focal })
+    }
+
     /// The checks on the view's values, each run when the lines it needs
     /// were read.
     fn check_view(
         &mut self,
-        seen: &[Option<Token<'a>>; 6],
-        ok: &[bool; 6],
+        seen: &[Option<Token<'a>>; 8],
+        ok: &[bool; 8],
         v: &mut ViewValues,
     ) -> Vec<Diagnostic> {
         let mut errors = Vec::new();
@@ -159,8 +212,8 @@ impl<'a> Parser<'a> {
     /// it, with the cause named where a length overflows or underflows.
     fn check_view_direction(
         &self,
-        seen: &[Option<Token<'a>>; 6],
-        usable: &[bool; 6],
+        seen: &[Option<Token<'a>>; 8],
+        usable: &[bool; 8],
         [from, at, up]: [DVec3; 3],
     ) -> Option<Diagnostic> {
         if !(usable[0] && usable[1]) {
