@@ -99,7 +99,8 @@ pub enum Dialect {
 /// command line overrides.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Directives {
-    /// `spp N`: samples per pixel.
+    /// `spp N`: samples per pixel; 0 is the course's one fixed sample at
+    /// each pixel's centre.
     pub spp: Option<u32>,
     /// `accel N`: 0 none, 1 uniform grid, 2 BVH (the course's numbering).
     pub accel: Option<u32>,

@@ -2,7 +2,9 @@
 //! printed, compiler-like diagnostics.
 
 use anyhow::{bail, Context, Result};
+use nffkit_formats::dialect;
 use nffkit_formats::nff::{self, escape, ParseOptions, Parsed, Report, Severity};
+use nffkit_formats::Dialect;
 use std::io::Read;
 use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -140,14 +142,28 @@ pub fn report<'s>(name: &'s str, src: &'s [u8], warnings: Warnings) -> Report<'s
     }
 }
 
-/// Read and parse a scene, printing its warnings as `warnings` asks and
+/// The language of the scene at `path` with bytes `src`: `given` (the
+/// user's `--dialect`), else the file name's (.p3f, .nff), else what the
+/// content shows ([`dialect::sniff`]; standard input has no name).
+pub fn dialect_of(path: &Path, src: &[u8], given: Option<Dialect>) -> Dialect {
+    given.or_else(|| dialect::from_extension(path)).unwrap_or_else(|| dialect::sniff(src))
+}
+
+/// Read and parse a scene in its language (`dialect`, else as
+/// [`dialect_of`] finds), printing its warnings as `warnings` asks and
 /// every error to stderr; notes (uses of documented extensions) are left to
 /// `--check`. Fails with a one-line summary when the file has errors.
-pub fn load_scene(path: &Path, opts: &ParseOptions, warnings: Warnings) -> Result<Parsed> {
+pub fn load_scene(
+    path: &Path,
+    opts: &ParseOptions,
+    dialect: Option<Dialect>,
+    warnings: Warnings,
+) -> Result<Parsed> {
     let src = read_source(path)?;
     let name = display_name(path);
     let mut out = report(&name, &src, warnings);
-    match nff::parse(&src, opts) {
+    let opts = ParseOptions { dialect: dialect_of(path, &src, dialect), ..*opts };
+    match nff::parse(&src, &opts) {
         Ok(parsed) => {
             if warnings != Warnings::Hide {
                 for d in parsed.diagnostics.iter().filter(|d| d.severity == Severity::Warning) {

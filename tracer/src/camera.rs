@@ -6,11 +6,13 @@
 //! With N pixels along the smaller image side, pixel centres are spaced
 //! 2·tan(angle/2)/(N−1) apart on an image plane at unit distance; pixels are
 //! square. So a 512-pixel image spans tan(angle/2)·512/511 to each side of the
-//! centre, and `--width/--height` overrides keep that field of view.
+//! centre, and `--width/--height` overrides keep that field of view. A
+//! P3F view's `angle` is the course's: the image height, edge to edge
+//! ([`View::pixel_size`] holds both conventions).
 
 use crate::math::Ray;
 use glam::{DVec3, Vec2, Vec3A};
-use nffkit_formats::View;
+use nffkit_formats::{Dialect, View};
 
 /// Rays from image positions.
 #[derive(Debug, Clone)]
@@ -33,8 +35,14 @@ pub struct Camera {
 }
 
 impl Camera {
-    /// The camera of a `v` block at `width` × `height` pixels.
+    /// The camera of an NFF `v` block at `width` × `height` pixels.
     pub fn new(view: &View, width: u32, height: u32) -> Camera {
+        Camera::in_dialect(view, Dialect::Nff, width, height)
+    }
+
+    /// The camera of a `v` block read as `dialect` reads it, at `width` ×
+    /// `height` pixels (a pinhole: [`Camera::with_lens`] adds the lens).
+    pub fn in_dialect(view: &View, dialect: Dialect, width: u32, height: u32) -> Camera {
         let f = |v: DVec3| Vec3A::new(v.x as f32, v.y as f32, v.z as f32);
         let dir = view.at - view.from;
         let forward = dir.normalize();
@@ -42,9 +50,7 @@ impl Camera {
         // cross product.
         let right = forward.cross(view.up.normalize()).normalize();
         let up = right.cross(forward);
-        let n = width.min(height);
-        let span = 2.0 * (view.angle.to_radians() * 0.5).tan();
-        let pixel = if n > 1 { span / (n - 1) as f64 } else { span };
+        let pixel = view.pixel_size(dialect, width, height);
         Camera {
             eye: f(view.from),
             forward: f(forward),
@@ -146,6 +152,17 @@ mod tests {
         let (top, _) = c.ray(4.0, 0.5, Vec2::ZERO);
         let (bottom, _) = c.ray(4.0, 3.5, Vec2::ZERO);
         assert!((top.d.angle_between(bottom.d).to_degrees() - 60.0).abs() < 1e-3);
+    }
+
+    #[test]
+    fn p3f_angle_spans_the_image_height_edge_to_edge() {
+        let v = view(60.0);
+        let c = Camera::in_dialect(&v, Dialect::P3f, 8, 4);
+        let (top, _) = c.ray(4.0, 0.0, Vec2::ZERO);
+        let (bottom, _) = c.ray(4.0, 4.0, Vec2::ZERO);
+        assert!((top.d.angle_between(bottom.d).to_degrees() - 60.0).abs() < 1e-3);
+        let nff = Camera::in_dialect(&v, Dialect::Nff, 8, 4);
+        assert!(c.pixel < nff.pixel, "edges span more pixels than outer centres");
     }
 
     #[test]

@@ -23,6 +23,7 @@ pub mod accel;
 #[doc(hidden)]
 pub mod bench;
 pub mod camera;
+pub mod environment;
 pub mod film;
 pub mod filter;
 #[doc(hidden)]

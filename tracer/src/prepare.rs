@@ -3,14 +3,16 @@
 
 use crate::accel::{Accel, AccelInfo, AccelOptions};
 use crate::camera::Camera;
+use crate::environment::CubeMap;
 use crate::geometry::{Cone, Cull, Geometry, Kind, Plane, PrimInfo, Sphere, Triangle};
-use crate::light::PointLight;
+use crate::light::{LightRect, PointLight};
 use crate::material::WhittedMaterial;
 use crate::stats::PerKind;
 use glam::{DVec3, Vec3A};
 use nffkit_formats::polygon::{drop_repeats, triangulate};
 use nffkit_formats::scene::MAX_COORDINATE;
-use nffkit_formats::{Scene, Shape};
+use nffkit_formats::{Dialect, Scene, Shape, View};
+use std::sync::Arc;
 use strum::EnumCount;
 use thiserror::Error;
 
@@ -23,10 +25,15 @@ pub struct PrepareOptions {
     pub height: Option<u32>,
     /// The spec's one-sided rule for opaque objects (default: two-sided).
     pub one_sided: bool,
-    /// Lens radius for depth of field (0: pinhole).
-    pub aperture: f32,
-    /// Focal distance (default: the from-at distance).
+    /// Lens radius for depth of field (0: pinhole). Default: the file's
+    /// lens (a P3F view's `aperture`), else a pinhole.
+    pub aperture: Option<f32>,
+    /// Focal distance. Default: the file's (a P3F view's `focal`), else
+    /// the from-at distance.
     pub focus: Option<f32>,
+    /// Weigh transmitters' reflection and transmission by Fresnel's
+    /// equations, as P3F scenes always do.
+    pub fresnel: bool,
     /// The accelerator to build.
     pub accel: AccelOptions,
     /// Ambient light.
@@ -83,6 +90,9 @@ pub struct RenderScene {
     pub materials: Vec<WhittedMaterial>,
     /// Background colour.
     pub background: Vec3A,
+    /// The cube map rays that leave the scene see instead of the
+    /// background (P3F's `env`, loaded by the caller).
+    pub environment: Option<Arc<CubeMap>>,
     /// Ambient intensity (0: none).
     pub ambient: f32,
     /// The primitives.
@@ -92,6 +102,15 @@ pub struct RenderScene {
 }
 
 impl RenderScene {
+    /// What a ray in direction `d` that hits nothing sees.
+    #[inline]
+    pub(crate) fn miss(&self, d: Vec3A) -> Vec3A {
+        match &self.environment {
+            Some(map) => map.lookup(d),
+            None => self.background,
+        }
+    }
+
     /// How many primitives of each kind the renderer made of the file's
     /// (polygons become triangles).
     pub fn primitive_counts(&self) -> PerKind {
@@ -161,11 +180,15 @@ pub fn prepare(scene: &Scene, opts: &PrepareOptions) -> Result<RenderScene, Prep
     if w == 0 || h == 0 || w > 65536 || h > 65536 || w as u64 * h as u64 > 1 << 27 {
         return Err(PrepareError::BadSize(w, h));
     }
-    let camera = Camera::new(view, w, h).with_lens(opts.aperture, opts.focus);
+    let (aperture, focus) = lens(view, scene.dialect, opts);
+    let camera = Camera::in_dialect(view, scene.dialect, w, h).with_lens(aperture, focus);
     let (lights, ambient) = point_lights(&scene.lights, opts.ambient);
     let default = nffkit_formats::Material::default();
-    let materials =
-        std::iter::once(&default).chain(&scene.materials).map(WhittedMaterial::from).collect::<Vec<_>>();
+    let fresnel = opts.fresnel || scene.dialect == Dialect::P3f;
+    let materials = std::iter::once(&default)
+        .chain(&scene.materials)
+        .map(|m| WhittedMaterial::new(m, fresnel))
+        .collect::<Vec<_>>();
     let geometry = build_geometry(scene, &materials, opts.one_sided);
     let accel = Accel::build(&geometry, &opts.accel);
     Ok(RenderScene {
@@ -173,10 +196,25 @@ pub fn prepare(scene: &Scene, opts: &PrepareOptions) -> Result<RenderScene, Prep
         lights,
         materials,
         background: scene.background.map(v3).unwrap_or(Vec3A::ZERO),
+        environment: None,
         ambient,
         geometry,
         accel,
     })
+}
+
+/// The lens radius and focal distance: the options', else the file's lens
+/// (P3F's `aperture`, a multiple of the pixel size on the view plane at its
+/// own resolution, and `focal`, a multiple of the view-plane distance),
+/// else a pinhole focused on `at`.
+fn lens(view: &View, dialect: Dialect, opts: &PrepareOptions) -> (f32, Option<f32>) {
+    let d = (view.at - view.from).length();
+    let file = view.lens.map(|l| {
+        let [w, h] = view.resolution;
+        ((l.aperture * view.pixel_size(dialect, w, h) * d) as f32, (l.focal * d) as f32)
+    });
+    let aperture = opts.aperture.or(file.map(|f| f.0)).unwrap_or(0.0);
+    (aperture, opts.focus.or(file.map(|f| f.1)))
 }
 
 /// The file's lights with their intensities resolved, and the ambient
@@ -195,6 +233,10 @@ pub fn point_lights(lights: &[nffkit_formats::Light], ambient: Ambient) -> (Vec<
         .map(|l| PointLight {
             position: v3(l.position),
             intensity: l.color.map(v3).unwrap_or(Vec3A::splat(default_i)),
+            rect: l.area.map(|a| {
+                let n = v3(a.facing - l.position).normalize_or_zero();
+                LightRect::facing(n, a.size[0] as f32, a.size[1] as f32)
+            }),
         })
         .collect();
     (lights, ambient)

@@ -72,7 +72,16 @@ pub fn random_scene(seed: u64, n: usize, one_sided: bool) -> Geometry {
 
 /// The primitives of `scene`, all in one white diffuse material.
 pub fn geometry_of(scene: &Scene, one_sided: bool) -> Geometry {
-    let m = WhittedMaterial { color: Vec3A::ONE, kd: 1.0, ks: 0.0, shine: 1.0, t: 0.0, ior: 1.0 };
+    let m = WhittedMaterial {
+        color: Vec3A::ONE,
+        specular: Vec3A::ONE,
+        fresnel: false,
+        kd: 1.0,
+        ks: 0.0,
+        shine: 1.0,
+        t: 0.0,
+        ior: 1.0,
+    };
     build_geometry(scene, &[m], one_sided)
 }
 

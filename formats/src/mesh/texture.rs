@@ -87,6 +87,11 @@ impl Texture {
         self.rgb.len() as u64 * 3
     }
 
+    /// The texels, rows top to bottom.
+    pub fn texels(&self) -> &[[u8; 3]] {
+        &self.rgb
+    }
+
     /// Image size in texels.
     pub fn size(&self) -> (u32, u32) {
         (self.width, self.height)

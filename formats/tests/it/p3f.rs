@@ -119,8 +119,8 @@ fn malformed_entities_name_their_line_and_column() {
     let view = VIEW.replace("focal 1.5", "focal 0");
     expect(&view, 9, 1, "`focal` must be greater than 0");
     expect(&VIEW.replace("focal 1.5", "focal x"), 9, 7, "expected the focal distance");
-    // Directives: a sample count of 0, a word.
-    expect(&format!("spp 0\n{VIEW}"), 1, 5, "a sample count must be 1 to 65536, found 0");
+    // Directives: a sample count past the most, a word.
+    expect(&format!("spp 70000\n{VIEW}"), 1, 5, "a sample count must be 0 to 65536, found 70000");
     expect(&format!("accel bvh\n{VIEW}"), 1, 7, "expected an accelerator number (a whole number)");
 }
 

@@ -46,9 +46,10 @@ fn run(a: &Args) -> Result<()> {
     }
     let scene = match &a.append_to {
         Some(path) => {
-            let mut scene = input::load_scene(path, &ParseOptions::default(), input::Warnings::Summarise)
-                .with_context(|| format!("cannot append to {}", path.display()))?
-                .scene;
+            let mut scene =
+                input::load_scene(path, &ParseOptions::default(), None, input::Warnings::Summarise)
+                    .with_context(|| format!("cannot append to {}", path.display()))?
+                    .scene;
             board.add_to(&mut scene);
             scene
         }

@@ -34,7 +34,7 @@ struct Args {
 }
 
 fn run(a: &Args) -> Result<()> {
-    let scene = input::load_scene(&a.scene, &ParseOptions::default(), input::Warnings::Hide)?.scene;
+    let scene = input::load_scene(&a.scene, &ParseOptions::default(), None, input::Warnings::Hide)?.scene;
     let opts = PrepareOptions {
         width: Some(a.size),
         height: Some(a.size),

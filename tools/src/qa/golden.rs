@@ -181,7 +181,7 @@ pub fn scene_of(case: &Case, scenes: &Path) -> Result<Scene> {
                 .scene
         }
         Source::File(f) => {
-            input::load_scene(&scenes.join(f), &ParseOptions::default(), input::Warnings::Hide)?.scene
+            input::load_scene(&scenes.join(f), &ParseOptions::default(), None, input::Warnings::Hide)?.scene
         }
     })
 }

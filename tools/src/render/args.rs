@@ -13,6 +13,7 @@ use anyhow::{bail, Result};
 use clap::Parser;
 use nffkit_formats::image_io::ImageKind;
 use nffkit_formats::nff::ParseOptions;
+use nffkit_formats::{Dialect, Directives};
 use nffkit_tracer::accel::{AccelKind, AccelOptions};
 use nffkit_tracer::filter::FilterKind;
 use nffkit_tracer::light::LightShape;
@@ -21,11 +22,17 @@ use nffkit_tracer::render::{PixelWindow, RenderSettings, ShadeSettings};
 use nffkit_tracer::sampling::{Sampler, SamplerKind};
 use std::path::PathBuf;
 
-/// Render NFF scenes with a Whitted ray tracer, or validate them (--check).
+/// Render NFF and P3F scenes with a Whitted ray tracer, or validate them
+/// (--check).
 ///
 /// With no FILE, renders the built-in default scene (a level-3 sphereflake
-/// over a checkerboard). The camera's `angle` is the spec's: measured between
-/// the centres of the outer pixel rows/columns of the smaller image side.
+/// over a checkerboard). An NFF camera's `angle` is the spec's: measured
+/// between the centres of the outer pixel rows/columns of the smaller image
+/// side; a P3F camera's is the P3D course's: the image height, edge to edge.
+/// P3F files (a .p3f name, --dialect p3f, or recognised on standard input)
+/// render as the course meant: specular colours, Fresnel-weighted glass,
+/// area lights, the lens, the cube map, and their `spp` and `accel` as
+/// defaults the flags override (docs/p3f.md).
 #[derive(Parser, Debug, Clone)]
 #[command(name = "render", version, allow_negative_numbers = true)]
 pub struct RenderArgs {
@@ -101,20 +108,32 @@ pub struct RenderArgs {
     /// Unknown entities become warnings and are skipped.
     #[arg(long)]
     pub lenient: bool,
-    /// Read the plain NFF.TXT language: the 2017 course extensions `pl`
+    /// Read the plain language: in NFF the 2017 course extensions `pl`
     /// (infinite plane through three points) and `aabb` (axis-aligned box),
-    /// read by default, become errors.
+    /// read by default, become errors; in P3F, what the course's description
+    /// does not hold (extra `f` values, unknown directives), warned about
+    /// and skipped by default, becomes an error.
     #[arg(long, conflicts_with = "lenient")]
     pub strict: bool,
+    /// The scene language: nff, or p3f (the P3D course's). Default: from
+    /// the file name (.p3f, .nff), else recognised from the content.
+    #[arg(long, value_name = "nff|p3f", value_parser = dialect)]
+    pub dialect: Option<Dialect>,
+    /// Let a P3F scene's `env` folder lie outside the scene's folder (or be
+    /// reached through a link that leads out of it). Off by default: a
+    /// downloaded scene reads nothing outside its folder.
+    #[arg(long)]
+    pub allow_outside_paths: bool,
 
     /// The spec's one-sided rule: opaque objects are invisible from behind.
     /// Default is two-sided shading; transmitters are always two-sided.
     #[arg(long)]
     pub one_sided: bool,
 
-    /// Samples per pixel (anti-aliasing).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=65536))]
-    pub spp: u32,
+    /// Samples per pixel (anti-aliasing). Default: a P3F file's `spp`,
+    /// else 1.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub spp: Option<u32>,
     /// Sample pattern. With 1 sample per pixel and no --sampler, the pixel
     /// centre is used (classic NFF); otherwise the default is multi-jittered.
     #[arg(long, value_enum)]
@@ -131,16 +150,25 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value_t = LightShape::Square)]
     pub light_shape: LightShape,
 
-    /// Lens radius for depth of field (0: pinhole).
-    #[arg(long, default_value_t = 0.0, value_parser = non_negative)]
-    pub aperture: f32,
-    /// Distance in focus (default: the from-at distance).
+    /// Lens radius for depth of field (0: pinhole). Default: a P3F view's
+    /// lens (`aperture` pixels), else a pinhole.
+    #[arg(long, value_parser = non_negative)]
+    pub aperture: Option<f32>,
+    /// Distance in focus. Default: a P3F view's `focal` ratio of the
+    /// from-at distance, else the from-at distance.
     #[arg(long, value_parser = positive)]
     pub focus: Option<f32>,
+    /// Weigh transmitters' reflection and transmission by Fresnel's
+    /// equations (reflection Kr, transmission T(1 - Kr)), as P3F scenes
+    /// always are, instead of NFF's fixed Ks and T.
+    #[arg(long)]
+    pub fresnel: bool,
 
-    /// Acceleration structure.
-    #[arg(long, value_enum, default_value_t = AccelKind::Bvh)]
-    pub accel: AccelKind,
+    /// Acceleration structure. Default: a P3F file's `accel` (1 grid, 2
+    /// BVH; its 0, "none", keeps the BVH), else the BVH. Every one gives
+    /// the same image.
+    #[arg(long, value_enum)]
+    pub accel: Option<AccelKind>,
     /// Uniform grid density multiplier M (cells per axis from formula (1)
     /// of the P3D report); 0 gives one cell.
     #[arg(long, default_value_t = 2.0, value_parser = non_negative)]
@@ -242,6 +270,8 @@ pub enum Command {
         files: Vec<PathBuf>,
         /// How to parse them.
         parse: ParseOptions,
+        /// Their language, when the user said.
+        dialect: Option<Dialect>,
         /// Which warnings and notes to print.
         warnings: Warnings,
     },
@@ -260,6 +290,14 @@ pub struct RenderConfig {
     pub output_kind: ImageKind,
     /// How to parse the scene.
     pub parse: ParseOptions,
+    /// The scene's language, when the user said (else from its name or
+    /// content).
+    pub dialect: Option<Dialect>,
+    /// May the scene's cube map lie outside its folder.
+    pub allow_outside_paths: bool,
+    /// What the command line set of what a P3F file's directives also
+    /// set: those the file may not change.
+    pub given: Given,
     /// How to turn the scene into a renderable one.
     pub prepare: PrepareOptions,
     /// How to render it.
@@ -292,6 +330,7 @@ impl RenderArgs {
             return Ok(Command::Check {
                 files: self.files.clone(),
                 parse: self.parse_options(),
+                dialect: self.dialect,
                 warnings: self.warnings(),
             });
         }
@@ -314,7 +353,7 @@ impl RenderArgs {
             }
         }
         let kind = self.sampler.unwrap_or(SamplerKind::MultiJittered);
-        let (sampler, note) = Sampler::new(kind, self.spp, self.seed);
+        let (sampler, note) = Sampler::new(kind, self.spp.unwrap_or(1), self.seed);
         let settings = RenderSettings {
             sampler,
             centre_single_sample: self.sampler.is_none(),
@@ -338,7 +377,12 @@ impl RenderArgs {
             one_sided: self.one_sided,
             aperture: self.aperture,
             focus: self.focus,
-            accel: AccelOptions { kind: self.accel, grid_m: self.grid_m, mailbox: !self.no_mailbox },
+            fresnel: self.fresnel,
+            accel: AccelOptions {
+                kind: self.accel.unwrap_or(AccelKind::Bvh),
+                grid_m: self.grid_m,
+                mailbox: !self.no_mailbox,
+            },
             ambient: self.ambient.unwrap_or_default(),
         };
         Ok(RenderConfig {
@@ -346,6 +390,9 @@ impl RenderArgs {
             output,
             output_kind,
             parse: self.parse_options(),
+            dialect: self.dialect,
+            allow_outside_paths: self.allow_outside_paths,
+            given: Given { spp: self.spp.is_some(), accel: self.accel.is_some() },
             prepare,
             settings,
             threads: self.threads.unwrap_or(0) as usize,
@@ -395,6 +442,45 @@ impl RenderArgs {
             }
             Some(_) => PathBuf::from("render.png"),
             None => PathBuf::from("nffkit-default.png"),
+        }
+    }
+}
+
+/// Which settings the command line gave, of those a P3F file's directives
+/// also give.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Given {
+    /// `--spp`.
+    pub spp: bool,
+    /// `--accel`.
+    pub accel: bool,
+}
+
+impl RenderConfig {
+    /// Take a P3F scene's `spp` and `accel` where the command line gave
+    /// none (the course's `accel` numbers: 1 uniform grid, 2 BVH; 0, "none",
+    /// keeps the BVH, with a note).
+    pub fn apply_directives(&mut self, d: &Directives) {
+        if let (Some(spp), false) = (d.spp, self.given.spp) {
+            let s = &self.settings.sampler;
+            // 0: one sample, at the pixel centre unless --sampler says.
+            let (sampler, note) = Sampler::new(s.kind, spp.max(1), s.seed);
+            self.settings.sampler = sampler;
+            self.notes.extend(note.map(|m| format!("the scene's `spp {spp}`: {m}")));
+        }
+        match (d.accel, self.given.accel) {
+            // The course's template starts every file at `accel 0`, its
+            // students' tracers before they have a structure; every
+            // accelerator here gives the same image, so 0 asks for nothing.
+            (Some(0), false) => self.notes.push(
+                "the scene's `accel 0` (the course's \"none\") is taken as no preference: the BVH, \
+                 which gives the same image; --accel none traces without one"
+                    .into(),
+            ),
+            (Some(n), false) => {
+                self.prepare.accel.kind = if n == 1 { AccelKind::Grid } else { AccelKind::Bvh }
+            }
+            _ => {}
         }
     }
 }
@@ -464,6 +550,10 @@ fn ambient(s: &str) -> Result<Ambient, String> {
         return Ok(Ambient::Spd);
     }
     non_negative(s).map(Ambient::Value).map_err(|e| format!("{e}; expected a number or `spd`"))
+}
+
+fn dialect(s: &str) -> Result<Dialect, String> {
+    s.to_ascii_lowercase().parse().map_err(|_| format!("`{s}` is no scene language; expected nff or p3f"))
 }
 
 fn positive(s: &str) -> Result<f32, String> {

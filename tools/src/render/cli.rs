@@ -4,7 +4,7 @@
 //! `nffkit_tracer`; validation is done before anything here runs.
 
 use super::scene_warnings::scene_warnings;
-use super::{check, part, report, spd_published};
+use super::{check, environment, part, report, spd_published};
 use crate::gen::default_scene;
 use crate::outputs::Outputs;
 use crate::render::args::{Command, RenderArgs, RenderConfig};
@@ -13,6 +13,7 @@ use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use nffkit_formats::image_io::{self, ImageKind};
 use nffkit_formats::nff::ParseOptions;
+use nffkit_formats::Dialect;
 use nffkit_tracer::film::cost_heatmap;
 use nffkit_tracer::prepare::prepare;
 use nffkit_tracer::render::{render, PixelWindow};
@@ -27,25 +28,32 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode> {
         input::set_stream_limit(mb << 20);
     }
     match args.command()? {
-        Command::Check { files, parse, warnings } => check_files(&files, &parse, warnings),
+        Command::Check { files, parse, dialect, warnings } => check_files(&files, &parse, dialect, warnings),
         Command::Render(config) => {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(config.threads)
                 .build()
                 .context("starting worker threads")?;
-            pool.install(|| render_command(&config))?;
+            let mut config = *config;
+            pool.install(|| render_command(&mut config))?;
             Ok(ExitCode::SUCCESS)
         }
     }
 }
 
-fn check_files(files: &[PathBuf], opts: &ParseOptions, warnings: input::Warnings) -> Result<ExitCode> {
+fn check_files(
+    files: &[PathBuf],
+    opts: &ParseOptions,
+    dialect: Option<Dialect>,
+    warnings: input::Warnings,
+) -> Result<ExitCode> {
     let mut failed = 0;
     for (k, path) in files.iter().enumerate() {
         let name = input::display_name(path);
         match input::read_source(path) {
             Ok(src) => {
-                let report = check::check_source(&name, &src, opts, warnings);
+                let opts = ParseOptions { dialect: input::dialect_of(path, &src, dialect), ..*opts };
+                let report = check::check_source(&name, &src, &opts, warnings);
                 eprint_safe!("{}", report.diagnostics);
                 cli_util::print(format_args!("{}\n", report.summary))?;
                 failed += (report.errors > 0) as usize;
@@ -65,23 +73,31 @@ fn check_files(files: &[PathBuf], opts: &ParseOptions, warnings: input::Warnings
     Ok(if failed == 0 { ExitCode::SUCCESS } else { ExitCode::FAILURE })
 }
 
-fn render_command(cfg: &RenderConfig) -> Result<()> {
+fn render_command(cfg: &mut RenderConfig) -> Result<()> {
     let t_start = Instant::now();
     let outputs = Outputs::new().inputs(cfg.input.as_deref()).file("-o", &cfg.output)?;
     if let Some(cost) = &cfg.aov_cost {
         outputs.file("--aov-cost", cost)?;
     }
+    let (scene, name) = match &cfg.input {
+        Some(path) => {
+            (input::load_scene(path, &cfg.parse, cfg.dialect, cfg.warnings)?.scene, input::display_name(path))
+        }
+        None => (default_scene::default_scene(), "built-in default scene".to_string()),
+    };
+    cfg.apply_directives(&scene.directives);
     if !cfg.quiet {
         for note in &cfg.notes {
             eprintln_safe!("note: {note}");
         }
     }
-    let (scene, name) = match &cfg.input {
-        Some(path) => (input::load_scene(path, &cfg.parse, cfg.warnings)?.scene, input::display_name(path)),
-        None => (default_scene::default_scene(), "built-in default scene".to_string()),
+    let environment = match &scene.environment {
+        Some(dir) => Some(environment::load(cfg.input.as_deref(), dir, cfg.allow_outside_paths)?),
+        None => None,
     };
     let t_parse = t_start.elapsed().as_secs_f64();
-    let prepared = prepare(&scene, &cfg.prepare).with_context(|| name.clone())?;
+    let mut prepared = prepare(&scene, &cfg.prepare).with_context(|| name.clone())?;
+    prepared.environment = environment.map(std::sync::Arc::new);
     if !cfg.quiet {
         for w in scene_warnings(&scene, Some(&prepared), prepared.ambient > 0.0) {
             eprint_safe!("{}", w.render(&name));

@@ -70,9 +70,12 @@ pub fn pixel_settings(
         one_sided,
         aperture,
         focus,
+        fresnel,
         accel: _,
         ambient,
     } = prepare;
+    // `None`: the scene file's lens, which its digest covers.
+    let or_scene = |v: &Option<f32>| v.map_or("scene".to_string(), |v| v.to_string());
     let (w, h) = camera.resolution();
     vec![
         ("size", format!("{w}x{h}")),
@@ -87,8 +90,9 @@ pub fn pixel_settings(
         ("min-weight", min_weight.to_string()),
         ("spd-stats", spd.to_string()),
         ("row-stride", row_stride.to_string()),
-        ("aperture", aperture.to_string()),
-        ("focus", focus.map_or("from-at".to_string(), |f| f.to_string())),
+        ("aperture", or_scene(aperture)),
+        ("focus", or_scene(focus)),
+        ("fresnel", fresnel.to_string()),
         ("one-sided", one_sided.to_string()),
         ("ambient", ambient.to_string()),
     ]
@@ -463,8 +467,9 @@ mod tests {
         min_weight: "min-weight" => |s, p| s.shade.min_weight = 0.01;
         spd_stats: "spd-stats" => |s, p| s.shade.spd = true;
         row_stride: "row-stride" => |s, p| s.row_stride = 2;
-        aperture: "aperture" => |s, p| p.aperture = 0.1;
+        aperture: "aperture" => |s, p| p.aperture = Some(0.1);
         focus: "focus" => |s, p| p.focus = Some(3.0);
+        fresnel: "fresnel" => |s, p| p.fresnel = true;
         one_sided: "one-sided" => |s, p| p.one_sided = true;
         ambient: "ambient" => |s, p| p.ambient = nffkit_tracer::prepare::Ambient::Value(0.8);
     }

@@ -3,7 +3,9 @@
 //! `I · (Kd · colour · max(0, N·L) + Ks · max(0, R·V)^Shine)`; plus
 //! `Ks · reflected` and `T · refracted` (Snell's law with the material's
 //! index; on total internal reflection the reflection is traced instead);
-//! no shadow ray when N·L ≤ 0; the background for rays that escape.
+//! no shadow ray when N·L ≤ 0; the background (or the cube map) for rays
+//! that escape. P3F's specular colour tints the highlight and the mirror
+//! ray (white in NFF, where the tint changes no bit).
 //!
 //! Which rays are spawned follows one of two rules ([`ShadeSettings::spd`]):
 //!
@@ -17,6 +19,11 @@
 //!   transmitter spawns a refraction ray unless there is total internal
 //!   reflection, when the transmitted share goes to that one reflection ray.
 //!
+//! A transmitter under the Fresnel rule (P3F's materials, or `--fresnel`)
+//! spawns instead a mirror ray weighted by the Fresnel reflectance Kr and
+//! a refracted ray weighted T·(1 − Kr), as the P3D course's tracers do; on
+//! total internal reflection Kr = 1.
+//!
 //! This file traces ray by ray; [`packet`] traces the same shading for
 //! packets of rays, sharing every decision made here.
 
@@ -25,7 +32,7 @@ mod packet;
 use crate::accel::{test_prim, AnyHit, Intersector, Tracer};
 use crate::geometry::Hit;
 use crate::light::LightShape;
-use crate::material::WhittedMaterial;
+use crate::material::{fresnel_reflectance, WhittedMaterial};
 use crate::math::{offset_ray_origin, reflect, refract, shadow_ray, Ray, RayQuery};
 use crate::prepare::RenderScene;
 use crate::sampling::Sampler;
@@ -141,7 +148,7 @@ impl Whitted<'_> {
     ) -> Vec3A {
         let scene = self.scene;
         let q = RayQuery::new(ray, t_min);
-        let Some(hit) = th.tracer.nearest(&q, f32::INFINITY) else { return scene.background };
+        let Some(hit) = th.tracer.nearest(&q, f32::INFINITY) else { return scene.miss(ray.d) };
         if depth == 1 {
             th.tracer.counters.eye_hits += 1;
         }
@@ -153,8 +160,10 @@ impl Whitted<'_> {
                 color += self.direct(&sp, k, lr.l, lr.n_dot_l);
             }
         }
-        for (ray, share) in self.spawn(&sp, depth, weight, &mut th.tracer.counters).into_iter().flatten() {
-            color += share * self.li(ray, 0.0, depth + 1, weight * share, id, th);
+        for (kind, spawned) in self.spawn(&sp, depth, weight, &mut th.tracer.counters).into_iter().enumerate()
+        {
+            let Some((ray, share)) = spawned else { continue };
+            color += share * tint(kind, sp.m) * self.li(ray, 0.0, depth + 1, weight * share, id, th);
         }
         color
     }
@@ -179,7 +188,7 @@ impl Whitted<'_> {
         let m = sp.m;
         let r = reflect(-l, sp.ns);
         let spec = if m.ks > 0.0 { m.ks * r.dot(-sp.d).max(0.0).powf(m.shine) } else { 0.0 };
-        self.scene.lights[k].intensity * (m.kd * n_dot_l * m.color + Vec3A::splat(spec))
+        self.scene.lights[k].intensity * (m.kd * n_dot_l * m.color + spec * m.specular)
     }
 
     /// The rays the rule in force spawns at `sp` ([`Spawned`]), counting
@@ -197,7 +206,7 @@ impl Whitted<'_> {
             None
         };
         self.choose_rays(
-            m,
+            sp,
             weight,
             refracted,
             || Ray { o: offset_ray_origin(p, ng), d: mirror(d, ns, ng) },
@@ -205,17 +214,18 @@ impl Whitted<'_> {
         )
     }
 
-    /// Which rays a hit on material `m` spawns, given its refracted ray
-    /// (`None` on total internal reflection or where `m` transmits nothing)
+    /// Which rays a hit at `sp` spawns, given its refracted ray (`None` on
+    /// total internal reflection or where its material transmits nothing)
     /// and its mirror ray: the rule of the module doc.
     fn choose_rays(
         &self,
-        m: &WhittedMaterial,
+        sp: &ShadePoint,
         weight: f32,
         refracted: Option<Ray>,
         mirror_ray: impl Fn() -> Ray,
         c: &mut Counters,
     ) -> Spawned {
+        let m = sp.m;
         let mut out = [None; 3];
         let min = self.settings.min_weight;
         let tir = m.t > 0.0 && refracted.is_none();
@@ -223,6 +233,18 @@ impl Whitted<'_> {
             c.reflected += 1;
             Some((mirror_ray(), share))
         };
+        if m.fresnel_weighted() && !self.settings.spd {
+            let kr = if tir { 1.0 } else { fresnel_reflectance(-sp.d.dot(sp.ns), m.eta(sp.entering)) };
+            if kr > 0.0 && weight * kr >= min {
+                out[0] = mirror(kr);
+            }
+            let share = m.t * (1.0 - kr);
+            if let Some(ray) = refracted.filter(|_| share > 0.0 && weight * share >= min) {
+                c.refracted += 1;
+                out[2] = Some((ray, share));
+            }
+            return out;
+        }
         if self.settings.spd {
             // Rules 8 and 9: one reflection ray at any reflector or
             // transmitter, carrying the transmitted share on TIR.
@@ -310,13 +332,25 @@ impl Whitted<'_> {
     fn light_position(&self, k: usize, p: Vec3A, depth: u32, id: SampleId) -> Vec3A {
         let light = &self.scene.lights[k];
         let size = self.settings.light_size;
-        if size <= 0.0 {
+        if size <= 0.0 && light.rect.is_none() {
             return light.position;
         }
         let n_lights = self.scene.lights.len() as u32;
         let dim = FIRST_LIGHT_DIMENSION + (depth - 1) * n_lights + k as u32;
         let u = self.sampler.sample(id.px, id.py, id.index, dim);
         light.seen_from(p, size, self.settings.light_shape, u)
+    }
+}
+
+/// The colour a spawned ray of `kind` (its index in [`Spawned`]) is
+/// seen through: the material's specular colour for mirror rays, white for
+/// the refracted one.
+#[inline]
+fn tint(kind: usize, m: &WhittedMaterial) -> Vec3A {
+    if kind < 2 {
+        m.specular
+    } else {
+        Vec3A::ONE
     }
 }
 

@@ -7,9 +7,8 @@
 //! [`Whitted::li`] gives for its ray: the same hits, and the same sums in
 //! the same order.
 
-use super::{SampleId, ShadePoint, Spawned, ThreadState, Whitted};
+use super::{tint, SampleId, ShadePoint, Spawned, ThreadState, Whitted};
 use crate::accel::Intersector;
-use crate::material::WhittedMaterial;
 use crate::math::Ray;
 use crate::packet::bounce::{bounces, BounceLanes};
 use crate::packet::prims::occludes;
@@ -47,7 +46,7 @@ impl Whitted<'_> {
         let entering = surfaces(crate::simd::isa(), geom, &packet, &hits, hit, &mut at);
         for (i, o) in out.iter_mut().enumerate().take(rays.len()) {
             if hit >> i & 1 == 0 {
-                *o = scene.background;
+                *o = scene.miss(lane(&packet.d, i));
                 continue;
             }
             if depth == 1 {
@@ -71,14 +70,14 @@ impl Whitted<'_> {
             let mut any = [false; 3];
             for_lanes(b.want, |i| {
                 let Some(sp) = &points[i] else { return };
-                let rays_i = self.spawn_lane(sp.m, &b, i, rays[i].2, &mut th.tracer.counters);
+                let rays_i = self.spawn_lane(sp, &b, i, rays[i].2, &mut th.tracer.counters);
                 for (kind, r) in rays_i.into_iter().enumerate() {
                     any[kind] |= r.is_some();
                     spawned[kind][i] = r;
                 }
             });
-            for (kind, _) in spawned.iter().zip(any).filter(|k| k.1) {
-                self.trace_spawned(kind, depth + 1, rays, ids, &mut color, th);
+            for (k, (kind, _)) in spawned.iter().zip(any).enumerate().filter(|k| k.1 .1) {
+                self.trace_spawned(kind, k, &points, depth + 1, rays, ids, &mut color, th);
             }
         }
         for (i, sp) in points.iter().enumerate() {
@@ -156,12 +155,16 @@ impl Whitted<'_> {
         });
     }
 
-    /// Trace one kind of spawned ray (`(ray, share)` per lane, or none) at
-    /// `depth`, as a packet when more than one lane has one, adding
-    /// `share × radiance` to the lane's colour.
+    /// Trace one kind of spawned ray (`(ray, share)` per lane, or none;
+    /// `kind` its index in [`Spawned`]) at `depth`, as a packet when more
+    /// than one lane has one, adding `share × tint × radiance` to the
+    /// lane's colour (`points` holding the lanes' materials).
+    #[allow(clippy::too_many_arguments)]
     fn trace_spawned<I: Intersector>(
         &self,
         spawned: &[Option<(Ray, f32)>; LANES],
+        kind: usize,
+        points: &Points,
         depth: u32,
         parents: &[(Ray, f32, f32)],
         ids: &[SampleId],
@@ -188,7 +191,8 @@ impl Whitted<'_> {
         for j in 0..n {
             let i = lanes[j];
             let share = spawned[i].map_or(0.0, |s| s.1);
-            color[i] += share * radiance[j];
+            let tint = points[i].as_ref().map_or(Vec3A::ONE, |sp| tint(kind, sp.m));
+            color[i] += share * tint * radiance[j];
         }
     }
 
@@ -196,14 +200,20 @@ impl Whitted<'_> {
     /// computed lane-wise ([`bounces`]).
     fn spawn_lane(
         &self,
-        m: &WhittedMaterial,
+        sp: &ShadePoint,
         b: &BounceLanes,
         i: usize,
         weight: f32,
         c: &mut Counters,
     ) -> Spawned {
-        let refracted = (m.t > 0.0 && b.refracts >> i & 1 != 0)
+        let refracted = (sp.m.t > 0.0 && b.refracts >> i & 1 != 0)
             .then(|| Ray { o: lane(&b.refract_o, i), d: lane(&b.refract_d, i) });
-        self.choose_rays(m, weight, refracted, || Ray { o: lane(&b.mirror_o, i), d: lane(&b.mirror_d, i) }, c)
+        self.choose_rays(
+            sp,
+            weight,
+            refracted,
+            || Ray { o: lane(&b.mirror_o, i), d: lane(&b.mirror_d, i) },
+            c,
+        )
     }
 }

@@ -26,7 +26,7 @@ fn image(kind: AccelKind, threads: usize, aperture: f32) -> Vec<u8> {
     let opts = PrepareOptions {
         width: Some(48),
         height: Some(40),
-        aperture,
+        aperture: Some(aperture),
         accel: AccelOptions { kind, ..Default::default() },
         ..Default::default()
     };

@@ -213,11 +213,12 @@ impl<'a> Parser<'a> {
     }
 
     /// `spp N` and `accel N`: defaults for the renderer, which the command
-    /// line overrides.
+    /// line overrides. `spp 0` asks for the pixel centre alone.
     pub(super) fn directive(&mut self, t: Token<'a>, e: Entity) -> Res<()> {
         let spp = e.keyword == "spp";
+        // `spp 0` is the course's "one fixed sample per pixel" (its centre).
         let (what, max) = if spp { ("a sample count", 65536) } else { ("an accelerator number", u64::MAX) };
-        let (n, at) = self.count(what, u64::from(spp), max, e)?;
+        let (n, at) = self.count(what, 0, max, e)?;
         let previous = if spp {
             self.scene.directives.spp.replace(n as u32)
         } else if n < ACCELERATORS.len() as u64 {
