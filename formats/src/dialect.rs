@@ -86,8 +86,8 @@ pub fn to_nff(scene: &Scene) -> (Scene, Vec<String>) {
             let d = (v.at - v.from).length();
             let radius = lens.aperture * v.pixel_size(Dialect::Nff, w, h) * d;
             lost.push(format!(
-                "the lens (aperture {} pixels, focal {}): NFF has none; `render --aperture {} --focus {}` \
-                 gives the same depth of field",
+                "the lens (aperture {} pixels, focal {}); `render --aperture {} --focus {}` gives the \
+                 same depth of field",
                 lens.aperture,
                 lens.focal,
                 short(radius),
@@ -102,7 +102,7 @@ pub fn to_nff(scene: &Scene) -> (Scene, Vec<String>) {
     }
     if specular > 0 {
         lost.push(format!(
-            "{specular} specular colour{}: NFF's highlights and reflections are white; each Ks is \
+            "{specular} specular colour{} (its highlights and reflections are white): each Ks is \
              scaled by its colour's mean",
             crate::plural(specular)
         ));
@@ -110,8 +110,8 @@ pub fn to_nff(scene: &Scene) -> (Scene, Vec<String>) {
     let glass = out.materials.iter().filter(|m| m.t > 0.0).count();
     if glass > 0 {
         lost.push(format!(
-            "Fresnel weighting of {glass} transmitting material{}: NFF weighs reflection by Ks and \
-             transmission by T; `render --fresnel` weighs them as P3F does",
+            "the Fresnel weighting of {glass} transmitting material{} (it weighs reflection by Ks and \
+             transmission by T); `render --fresnel` weighs them as P3F does",
             crate::plural(glass)
         ));
     }
@@ -119,7 +119,7 @@ pub fn to_nff(scene: &Scene) -> (Scene, Vec<String>) {
         out.lights.iter_mut().filter_map(|l| l.area.take()).map(|a| a.size[0].max(a.size[1])).collect();
     if let Some(size) = areas.iter().copied().reduce(f64::max) {
         lost.push(format!(
-            "{} area light{}: NFF's lights are points, written at each rectangle's centre; \
+            "{} area light{} (its lights are points, written at each rectangle's centre); \
              `render --light-size {}` gives soft shadows from squares facing each point",
             areas.len(),
             crate::plural(areas.len()),
@@ -127,13 +127,11 @@ pub fn to_nff(scene: &Scene) -> (Scene, Vec<String>) {
         ));
     }
     if let Some(dir) = out.environment.take() {
-        lost.push(format!(
-            "the cube map `env {dir}`: NFF has none; rays that leave the scene see the background colour"
-        ));
+        lost.push(format!("the cube map `env {dir}`: rays that leave the scene see the background colour"));
     }
     let d = std::mem::take(&mut out.directives);
     if let Some(n) = d.spp {
-        lost.push(format!("`spp {n}`: `render --spp {n}` asks for it"));
+        lost.push(format!("`spp {n}`: `render --spp {}` asks for it", n.max(1)));
     }
     if let Some(n) = d.accel {
         lost.push(format!("`accel {n}`: `render --accel` chooses the accelerator"));
@@ -162,8 +160,8 @@ pub fn to_p3f(scene: &Scene) -> (Scene, Vec<String>) {
     let glass = out.materials.iter().filter(|m| m.t > 0.0).count();
     if glass > 0 {
         lost.push(format!(
-            "the classic weighting of {glass} transmitting material{}: P3F weighs their reflection and \
-             transmission by Fresnel's equations, so they render differently",
+            "the classic weighting of {glass} transmitting material{} (it weighs their reflection and \
+             transmission by Fresnel's equations, so they render differently)",
             crate::plural(glass)
         ));
     }

@@ -610,6 +610,21 @@ mod tests {
     }
 
     #[test]
+    fn a_p3f_files_directives_yield_to_the_flags() {
+        let d = Directives { spp: Some(9), accel: Some(1) };
+        let mut c = config(&[]).unwrap();
+        c.apply_directives(&d);
+        assert_eq!((c.settings.sampler.spp, c.prepare.accel.kind), (9, AccelKind::Grid));
+        let mut c = config(&["--spp", "16", "--accel", "none"]).unwrap();
+        c.apply_directives(&d);
+        assert_eq!((c.settings.sampler.spp, c.prepare.accel.kind), (16, AccelKind::None));
+        let mut c = config(&[]).unwrap();
+        c.apply_directives(&Directives { spp: Some(0), accel: Some(0) });
+        assert_eq!((c.settings.sampler.spp, c.prepare.accel.kind), (1, AccelKind::Bvh));
+        assert!(c.settings.centre_single_sample && c.notes.iter().any(|n| n.contains("accel 0")));
+    }
+
+    #[test]
     fn spd_stats_fixes_depth_and_weight() {
         let c = config(&["--spd-stats", "--depth", "9", "--min-weight", "0.1"]).unwrap();
         assert_eq!((c.settings.shade.max_depth, c.settings.shade.min_weight, c.stats), (5, 0.0, true));

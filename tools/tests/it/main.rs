@@ -12,4 +12,5 @@ mod files;
 mod generators;
 mod mesh2nff;
 mod mesh_looks;
+mod p3f;
 mod spd;
