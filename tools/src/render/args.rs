@@ -124,6 +124,11 @@ pub struct RenderArgs {
     /// downloaded scene reads nothing outside its folder.
     #[arg(long)]
     pub allow_outside_paths: bool,
+    /// The cube map (six images: right, left, top, bottom, front, back,
+    /// .jpg or .png) that rays leaving the scene see, in place of a P3F
+    /// scene's `env` or an NFF scene's background.
+    #[arg(long, value_name = "DIR")]
+    pub env: Option<PathBuf>,
 
     /// The spec's one-sided rule: opaque objects are invisible from behind.
     /// Default is two-sided shading; transmitters are always two-sided.
@@ -295,6 +300,8 @@ pub struct RenderConfig {
     pub dialect: Option<Dialect>,
     /// May the scene's cube map lie outside its folder.
     pub allow_outside_paths: bool,
+    /// The cube map the user named, in place of the scene's.
+    pub env: Option<PathBuf>,
     /// What the command line set of what a P3F file's directives also
     /// set: those the file may not change.
     pub given: Given,
@@ -392,6 +399,7 @@ impl RenderArgs {
             parse: self.parse_options(),
             dialect: self.dialect,
             allow_outside_paths: self.allow_outside_paths,
+            env: self.env.clone(),
             given: Given { spp: self.spp.is_some(), accel: self.accel.is_some() },
             prepare,
             settings,

@@ -91,9 +91,10 @@ fn render_command(cfg: &mut RenderConfig) -> Result<()> {
             eprintln_safe!("note: {note}");
         }
     }
-    let environment = match &scene.environment {
-        Some(dir) => Some(environment::load(cfg.input.as_deref(), dir, cfg.allow_outside_paths)?),
-        None => None,
+    let environment = match (&cfg.env, &scene.environment) {
+        (Some(dir), _) => Some(environment::load_given(dir)?),
+        (None, Some(dir)) => Some(environment::load(cfg.input.as_deref(), dir, cfg.allow_outside_paths)?),
+        (None, None) => None,
     };
     let t_parse = t_start.elapsed().as_secs_f64();
     let mut prepared = prepare(&scene, &cfg.prepare).with_context(|| name.clone())?;

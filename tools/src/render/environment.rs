@@ -21,9 +21,31 @@ pub fn load(scene: Option<&Path>, dir: &str, allow_outside_paths: bool) -> Resul
         Some(p) if p.as_os_str() != "-" => p.parent().unwrap_or(Path::new(".")).to_path_buf(),
         _ => ".".into(),
     };
-    let opts = ImportOptions { allow_outside_paths, ..ImportOptions::default() };
     let folder = base.join(dir);
-    let context = || format!("the scene's cube map `env {dir}` ({})", folder.display());
+    // The course's programs look from the folder they run in, so its
+    // repositories keep `skybox/` beside the program, not the scenes.
+    if !folder.is_dir() && Path::new(dir).is_dir() && base != Path::new(".") {
+        bail!(
+            "the scene's cube map `env {dir}` is not beside it ({} is no folder); `{dir}` here is: \
+             `--env {dir}` uses it",
+            folder.display()
+        );
+    }
+    from_folder(&base, dir, &ImportOptions { allow_outside_paths, ..ImportOptions::default() })
+}
+
+/// The cube map in the folder the user named (`render --env DIR`): their
+/// own path, read wherever it is.
+pub fn load_given(dir: &Path) -> Result<CubeMap> {
+    let opts = ImportOptions { allow_outside_paths: true, ..ImportOptions::default() };
+    from_folder(Path::new("."), &dir.to_string_lossy(), &opts)
+}
+
+/// The six faces in `base/dir`, read as `opts` allows.
+fn from_folder(base: &Path, dir: &str, opts: &ImportOptions) -> Result<CubeMap> {
+    let opts = *opts;
+    let folder = base.join(dir);
+    let context = || format!("the cube map `{dir}` ({})", folder.display());
     let mut faces = Vec::with_capacity(6);
     for face in FACES {
         faces.push(load_face(&base, dir, face, &opts).with_context(context)?);

@@ -163,6 +163,17 @@ impl<'a> Parser<'a> {
     /// One vertex index of triangle `j` of `nt` in a mesh of `nv` vertices,
     /// as a 0-based index, with its token.
     fn mesh_index(&mut self, nv: u64, j: u64, nt: u64, e: Entity) -> Res<(usize, Token<'a>)> {
+        if self.peeked.is_none() {
+            // The hot path: a whole number in range, read in one pass.
+            if let Some((v, t)) = self.lexer.number() {
+                let k = v as i64;
+                if k as f64 == v && (1..=nv as i64).contains(&k) {
+                    self.last = Some(t);
+                    return Ok((k as usize - 1, t));
+                }
+                self.peeked = Some(Some(t));
+            }
+        }
         let what = format!("a vertex index of mesh triangle {} of {nt}", j + 1);
         let Some(t) = self.peek() else {
             return Err(self.eof_error(What::Text(&what), e));
