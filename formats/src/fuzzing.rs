@@ -19,12 +19,15 @@ pub const TARGETS: [Target; 4] = [
     ("import_gltf", import_gltf),
 ];
 
-/// The ways of reading NFF that the targets try.
-fn nff_options() -> [ParseOptions; 3] {
+/// The ways of reading NFF (and P3F) that the targets try.
+fn nff_options() -> [ParseOptions; 5] {
+    let p3f = crate::Dialect::P3f;
     [
         ParseOptions::default(),
         ParseOptions { lenient: true, fragment: true, ..Default::default() },
         ParseOptions { strict: true, ..Default::default() },
+        ParseOptions { dialect: p3f, ..Default::default() },
+        ParseOptions { dialect: p3f, strict: true, fragment: true, ..Default::default() },
     ]
 }
 

@@ -280,6 +280,7 @@ fn every_binary_has_its_own_help_and_no_build_machine_path() {
         env!("CARGO_BIN_EXE_raybench"),
         env!("CARGO_BIN_EXE_nffmerge"),
         env!("CARGO_BIN_EXE_spd"),
+        env!("CARGO_BIN_EXE_nffconvert"),
     ];
     let source_tree = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_string_lossy().into_owned();
     let mut abouts = std::collections::BTreeSet::new();

@@ -345,3 +345,36 @@ fn nffconvert_says_what_nff_cannot_hold_and_guards_its_input() {
     let o = run(CONVERT, &[&scene], None);
     assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains("--to"));
 }
+
+#[test]
+fn the_documented_course_scene_and_its_cube_map_are_reproduced() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().join("scenes/p3f");
+    // make-sky.sh, run on a copy, renders the committed faces bit for bit.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::copy(root.join("make-sky.sh"), dir.path().join("make-sky.sh")).unwrap();
+    let o = Command::new("bash")
+        .arg(dir.path().join("make-sky.sh"))
+        .arg("64")
+        .env("RENDER", RENDER)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for face in ["right", "left", "top", "bottom", "front", "back"] {
+        let made = rgb(&std::fs::read(dir.path().join(format!("sky/{face}.png"))).unwrap());
+        let kept = image::open(root.join(format!("sky/{face}.png"))).unwrap().to_rgb8();
+        let kept = image::imageops::resize(&kept, 64, 64, image::imageops::FilterType::Triangle);
+        let diff: f64 =
+            made.pixels().zip(kept.pixels()).map(|(a, b)| (a[0] as f64 - b[0] as f64).abs()).sum();
+        assert!(diff / 4096.0 < 12.0, "{face}: the committed face is not this scene's ({})", diff / 4096.0);
+    }
+    // The course scene renders with its sky above the floor.
+    let scene = root.join("course.p3f");
+    let img = rgb(&render(
+        dir.path(),
+        scene.to_str().unwrap(),
+        "course",
+        &["--width", "64", "--height", "48", "--spp", "1"],
+    ));
+    let sky = *img.get_pixel(2, 0);
+    assert_eq!(sky, image::Rgb([115, 158, 235]), "the cube map's sky, not the scene's bclr 0.1 0.1 0.1");
+}
