@@ -43,12 +43,11 @@ pub fn load_given(dir: &Path) -> Result<CubeMap> {
 
 /// The six faces in `base/dir`, read as `opts` allows.
 fn from_folder(base: &Path, dir: &str, opts: &ImportOptions) -> Result<CubeMap> {
-    let opts = *opts;
     let folder = base.join(dir);
     let context = || format!("the cube map `{dir}` ({})", folder.display());
     let mut faces = Vec::with_capacity(6);
     for face in FACES {
-        faces.push(load_face(&base, dir, face, &opts).with_context(context)?);
+        faces.push(load_face(base, dir, face, opts).with_context(context)?);
     }
     let faces: [Face; 6] = faces.try_into().map_err(|_| anyhow::anyhow!("six faces"))?;
     Ok(CubeMap::new(faces))
