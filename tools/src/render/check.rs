@@ -3,7 +3,7 @@
 use crate::input::Warnings;
 use crate::render::scene_warnings::{scene_warnings, SceneWarning};
 use nffkit_formats::nff::{self, escape, ParseOptions, Severity};
-use nffkit_formats::{plural, Scene, ShapeKind};
+use nffkit_formats::{plural, Dialect, Scene, ShapeKind};
 use nffkit_tracer::prepare::{prepare, PrepareOptions};
 use std::fmt::Write as _;
 use strum::VariantArray;
@@ -83,10 +83,37 @@ fn whole_scene_warnings(scene: &Scene) -> (Vec<SceneWarning>, bool) {
     (scene_warnings(scene, prepared.as_ref(), false), probe || scene.view.is_none())
 }
 
+/// What a P3F scene asks beyond NFF, for its summary line: `P3F (env
+/// skybox, lens, 1 area light, spp 4, accel 2), `.
+fn p3f_summary(scene: &Scene) -> String {
+    let mut parts = Vec::new();
+    if let Some(dir) = &scene.environment {
+        parts.push(format!("env {}", escape(dir)));
+    }
+    if scene.view.as_ref().and_then(|v| v.lens).is_some_and(|l| l.aperture > 0.0) {
+        parts.push("lens".to_string());
+    }
+    let areas = scene.lights.iter().filter(|l| l.area.is_some()).count();
+    if areas > 0 {
+        parts.push(format!("{areas} area light{}", plural(areas)));
+    }
+    let d = scene.directives;
+    parts.extend(d.spp.map(|n| format!("spp {n}")));
+    parts.extend(d.accel.map(|n| format!("accel {n}")));
+    if parts.is_empty() {
+        "P3F, ".to_string()
+    } else {
+        format!("P3F ({}), ", parts.join(", "))
+    }
+}
+
 fn summary(name: &str, scene: &Scene, warnings: usize, notes: usize) -> String {
     let counts = scene.counts();
     let total: usize = counts.iter().sum();
     let mut out = format!("{}: ok, ", escape(name));
+    if scene.dialect == Dialect::P3f {
+        out += &p3f_summary(scene);
+    }
     if let Some(v) = &scene.view {
         let _ = write!(out, "view {}x{}, ", v.resolution[0], v.resolution[1]);
     } else {

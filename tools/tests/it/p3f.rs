@@ -237,6 +237,13 @@ fn check_knows_p3f_its_extensions_and_its_errors() {
     let o = run(RENDER, &["--check", &scene], None);
     let err = ok(&o);
     assert!(err.contains("ext.p3f:13:36") && err.contains("3 values after the course's"), "{err}");
+    let summary = String::from_utf8_lossy(&o.stdout);
+    assert!(summary.contains("ext.p3f: ok, P3F, view 40x30"), "{summary}");
+    let all = everything(dir.path());
+    let o = run(RENDER, &["--check", &all], None);
+    ok(&o);
+    let summary = String::from_utf8_lossy(&o.stdout);
+    assert!(summary.contains("P3F (env sky, lens, 1 area light, spp 4)"), "{summary}");
     let strict = run(RENDER, &["--check", "--strict", &scene], None);
     assert!(!strict.status.success());
     let broken = write(dir.path(), "broken.p3f", &PLAIN_P3F.replace("1 2 3\n", "1 2 9\n"));
