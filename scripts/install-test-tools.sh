@@ -1,20 +1,33 @@
 #!/usr/bin/env bash
-# The real programs the farm tests run, installed where missing: GNU
-# parallel (Debian) and openjd-cli and kubernetes-validate (PyPI, in a
-# virtual environment under target/test-tools, where the tests look). The
+# The real programs the tests run, installed where missing: GNU parallel
+# and POV-Ray (Debian), openjd-cli and kubernetes-validate (PyPI, in a
+# virtual environment under target/test-tools, where the tests look), and
+# the Khronos glTF-Validator (npm, under target/test-tools/npm; Node from
+# Debian where there is none). The
 # README's test command runs this, then `cargo test` with
 # NFFKIT_TEST_TOOLS=required, so that a test needing one of them fails
 # instead of skipping.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-if ! command -v parallel >/dev/null; then
+# Debian packages, by the command each provides.
+debian() { # COMMAND PACKAGE...
+  command -v "$1" >/dev/null && return
+  shift
   if [ "$(id -u)" = 0 ]; then
-    apt-get install -y -q parallel >/dev/null 2>&1 ||
-      { apt-get update -q >/dev/null && apt-get install -y -q parallel >/dev/null; }
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -q "$@" >/dev/null 2>&1 ||
+      { apt-get update -q >/dev/null && DEBIAN_FRONTEND=noninteractive apt-get install -y -q "$@" >/dev/null; }
   elif command -v sudo >/dev/null; then
-    sudo apt-get install -y -q parallel >/dev/null
+    sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -q "$@" >/dev/null
   fi
+}
+debian parallel parallel
+debian povray povray
+debian node nodejs npm
+debian npm npm
+if [ ! -f target/test-tools/npm/node_modules/gltf-validator/package.json ]; then
+  mkdir -p target/test-tools/npm
+  npm install --prefix target/test-tools/npm --no-audit --no-fund --silent gltf-validator
 fi
 venv=target/test-tools
 if [ ! -x "$venv/bin/openjd" ] || [ ! -x "$venv/bin/kubernetes-validate" ]; then

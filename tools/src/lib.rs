@@ -15,6 +15,7 @@ static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 pub mod bench;
 pub mod cli_util;
+pub mod convert;
 pub mod demo;
 pub mod gen;
 pub mod input;

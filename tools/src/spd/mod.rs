@@ -19,7 +19,7 @@ pub mod shells;
 pub mod sombrero;
 pub mod teapot;
 mod teapot_data;
-mod tessellate;
+pub(crate) mod tessellate;
 pub mod tetra;
 pub mod tree;
 

@@ -1,4 +1,7 @@
-//! Helpers shared by the mesh import tests.
+//! Helpers shared by the integration tests.
+
+use std::path::Path;
+use std::process::Command;
 
 /// A GLB file: the JSON chunk (padded with spaces) and the binary chunk
 /// (padded with zeros), behind the 12-byte header.
@@ -22,4 +25,26 @@ pub fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
     out.extend(b"BIN\0");
     out.extend(&bin);
     out
+}
+
+/// A program a test runs (the farm tests, the exporters' readers), or `None` (the test is skipped, saying so)
+/// where it is missing, unless NFFKIT_TEST_TOOLS=required (the README's
+/// test command, which CI runs): then a missing one fails. The PyPI
+/// programs are looked for in the virtual environment
+/// `scripts/install-test-tools.sh` makes (target/test-tools, or
+/// NFFKIT_TEST_VENV), then on PATH.
+pub fn program(name: &str) -> Option<std::path::PathBuf> {
+    let venv = std::env::var_os("NFFKIT_TEST_VENV")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/test-tools"));
+    let found = Some(venv.join("bin").join(name)).filter(|p| p.is_file()).or_else(|| {
+        let o = Command::new("sh").args(["-c", &format!("command -v {name}")]).output().ok()?;
+        o.status.success().then(|| String::from_utf8_lossy(&o.stdout).trim().into())
+    });
+    if found.is_none() {
+        let required = std::env::var("NFFKIT_TEST_TOOLS").is_ok_and(|v| v == "required");
+        assert!(!required, "{name} is missing (scripts/install-test-tools.sh installs it)");
+        eprintln!("skipped: {name} is not installed (scripts/install-test-tools.sh installs it)");
+    }
+    found
 }

@@ -3,6 +3,7 @@
 //! rendered by concurrent processes merge to the full render's bytes; merge
 //! refuses parts that do not belong together.
 
+use crate::common::program;
 use nffkit_tools::render::args::{render_config_from, PartSpec};
 use nffkit_tracer::film::Film;
 use nffkit_tracer::prepare::prepare;
@@ -281,28 +282,6 @@ fn merge_refuses_edited_parts_bad_pixels_and_huge_windows() {
     let e = err(&run(NFFMERGE, d, &["p.png", "-o", "x.png"]));
     assert!(e.contains("parts are the .exr files `render --tile`"), "{e}");
     assert!(!d.join("x.png").exists());
-}
-
-/// A program a farm test runs, or `None` (the test is skipped, saying so)
-/// where it is missing, unless NFFKIT_TEST_TOOLS=required (the README's
-/// test command, which CI runs): then a missing one fails. The PyPI
-/// programs are looked for in the virtual environment
-/// `scripts/install-test-tools.sh` makes (target/test-tools, or
-/// NFFKIT_TEST_VENV), then on PATH.
-fn program(name: &str) -> Option<std::path::PathBuf> {
-    let venv = std::env::var_os("NFFKIT_TEST_VENV")
-        .map(std::path::PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/test-tools"));
-    let found = Some(venv.join("bin").join(name)).filter(|p| p.is_file()).or_else(|| {
-        let o = Command::new("sh").args(["-c", &format!("command -v {name}")]).output().ok()?;
-        o.status.success().then(|| String::from_utf8_lossy(&o.stdout).trim().into())
-    });
-    if found.is_none() {
-        let required = std::env::var("NFFKIT_TEST_TOOLS").is_ok_and(|v| v == "required");
-        assert!(!required, "{name} is missing (scripts/install-test-tools.sh installs it)");
-        eprintln!("skipped: {name} is not installed (scripts/install-test-tools.sh installs it)");
-    }
-    found
 }
 
 fn examples() -> std::path::PathBuf {

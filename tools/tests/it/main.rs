@@ -7,6 +7,7 @@ mod aademo;
 mod bench;
 mod cli;
 mod common;
+mod convert;
 mod farm;
 mod files;
 mod generators;
