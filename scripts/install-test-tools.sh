@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The real programs the tests run, installed where missing: GNU parallel
-# and POV-Ray (Debian), openjd-cli and kubernetes-validate (PyPI, in a
+# and POV-Ray (Debian), openjd-cli, kubernetes-validate and Mitsuba 3 (PyPI, in a
 # virtual environment under target/test-tools, where the tests look), and
 # the Khronos glTF-Validator (npm, under target/test-tools/npm; Node from
 # Debian where there is none). The
@@ -30,7 +30,8 @@ if [ ! -f target/test-tools/npm/node_modules/gltf-validator/package.json ]; then
   npm install --prefix target/test-tools/npm --no-audit --no-fund --silent gltf-validator
 fi
 venv=target/test-tools
-if [ ! -x "$venv/bin/openjd" ] || [ ! -x "$venv/bin/kubernetes-validate" ]; then
+if [ ! -x "$venv/bin/openjd" ] || [ ! -x "$venv/bin/kubernetes-validate" ] ||
+  ! "$venv/bin/python" -c "import mitsuba" 2>/dev/null; then
   if ! python3 -m venv "$venv" 2>/dev/null; then
     # Debian keeps venv apart.
     if [ "$(id -u)" = 0 ]; then
@@ -40,5 +41,5 @@ if [ ! -x "$venv/bin/openjd" ] || [ ! -x "$venv/bin/kubernetes-validate" ]; then
     rm -rf "$venv"
     python3 -m venv "$venv"
   fi
-  "$venv/bin/pip" install -q --disable-pip-version-check openjd-cli kubernetes-validate
+  "$venv/bin/pip" install -q --disable-pip-version-check openjd-cli kubernetes-validate mitsuba
 fi

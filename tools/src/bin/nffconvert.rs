@@ -4,7 +4,7 @@ use anyhow::{bail, Context, Result};
 use clap::Parser;
 use nffkit_formats::nff::{self, ParseOptions};
 use nffkit_formats::{dialect, Dialect, Scene};
-use nffkit_tools::convert::{gltf, obj, pov, ExportOptions, Format};
+use nffkit_tools::convert::{gltf, mitsuba, obj, pov, ExportOptions, Format};
 use nffkit_tools::outputs::Outputs;
 use nffkit_tools::{cli_util, eprintln_safe, input};
 use std::path::{Path, PathBuf};
@@ -17,9 +17,10 @@ use std::process::ExitCode;
 /// (POV-Ray 3.7, rendering as `render` does: the same camera, lights,
 /// Phong finishes, depth; --area-light and --aperture for soft shadows and
 /// depth of field), .obj (Wavefront OBJ, with its .mtl beside it), .gltf
-/// (glTF 2.0, with its .bin beside it) and .glb (one binary glTF). OBJ and
-/// glTF hold triangles only: spheres and cones are tessellated
-/// (--tessellate). One note a line says what the output cannot hold. Files
+/// (glTF 2.0, with its .bin beside it), .glb (one binary glTF) and .xml
+/// (Mitsuba 3, with a PLY file per material beside it). OBJ and glTF hold
+/// triangles only: spheres and cones are tessellated (--tessellate), as
+/// Mitsuba's cones are. One note a line says what the output cannot hold. Files
 /// are written whole or not at all; the input is never overwritten.
 #[derive(Parser, Debug)]
 #[command(name = "nffconvert", version)]
@@ -90,7 +91,7 @@ fn run(a: &Args) -> Result<()> {
         (None, Some(out)) => match Format::from_path(out) {
             Some(f) => f,
             None => bail!(
-                "{}: the extension names no language (.nff .p3f .pov .obj .gltf .glb); --to names one",
+                "{}: the extension names no language (.nff .p3f .pov .obj .gltf .glb .xml); --to names one",
                 out.display()
             ),
         },
@@ -99,15 +100,21 @@ fn run(a: &Args) -> Result<()> {
     let sidecar = match format {
         Format::Obj => Some("mtl"),
         Format::Gltf => Some("bin"),
+        Format::Mitsuba => Some("ply"),
         _ => None,
     };
     let mut outputs = Outputs::new().inputs([a.input.as_path()]);
     match (&a.output, sidecar) {
-        (Some(out), Some(ext)) => outputs = outputs.file("-o", out)?.file("-o", &beside(out, ext))?,
+        (Some(out), Some(ext)) if ext != "ply" => {
+            outputs = outputs.file("-o", out)?.file("-o", &beside(out, ext))?
+        }
+        (Some(out), Some(_)) => outputs = outputs.file("-o", out)?,
         (Some(out), None) => outputs = outputs.file("-o", out)?,
         (None, Some(ext)) => bail!("--to {format:?} writes a .{ext} file beside its own: give -o FILE"),
         (None, None) => {}
     }
+    // (The PLY files beside a Mitsuba scene are checked once their
+    // materials are known.)
     drop(outputs);
     let warnings = if a.quiet { input::Warnings::Hide } else { input::Warnings::Summarise };
     let scene = input::load_scene(&a.input, &ParseOptions::default(), a.dialect, warnings)?.scene;
@@ -118,7 +125,7 @@ fn run(a: &Args) -> Result<()> {
         focus: a.focus,
         tessellate: a.tessellate,
     };
-    let lost = write(&scene, format, a.output.as_deref(), &opts)?;
+    let lost = write(&scene, format, &a.input, a.output.as_deref(), &opts)?;
     if !a.quiet {
         let to = format!("{format:?}").to_uppercase();
         for l in &lost {
@@ -131,9 +138,15 @@ fn run(a: &Args) -> Result<()> {
     Ok(())
 }
 
-/// Write `scene` as `format` to `out` (standard output when `None`), and
-/// say what was lost.
-fn write(scene: &Scene, format: Format, out: Option<&Path>, opts: &ExportOptions) -> Result<Vec<String>> {
+/// Write `scene` (read from `input`) as `format` to `out` (standard output
+/// when `None`), and say what was lost.
+fn write(
+    scene: &Scene,
+    format: Format,
+    input: &Path,
+    out: Option<&Path>,
+    opts: &ExportOptions,
+) -> Result<Vec<String>> {
     let stdout_or = |bytes: &[u8]| cli_util::write_output(out, |w| w.write_all(bytes));
     match format {
         Format::Nff | Format::P3f => {
@@ -166,6 +179,22 @@ fn write(scene: &Scene, format: Format, out: Option<&Path>, opts: &ExportOptions
             let text = serde_json::to_vec_pretty(&doc.json).context("writing the glTF JSON")?;
             nffkit_formats::atomic::write_bytes(out, &text)?;
             Ok(doc.lost)
+        }
+        Format::Mitsuba => {
+            let out = out.context("Mitsuba needs -o")?;
+            let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+            let (xml, plys, lost) = mitsuba::write(scene, opts, |m| format!("{stem}-m{m}.ply"));
+            let dir = out.parent().unwrap_or(Path::new(""));
+            let mut check = Outputs::new().inputs([input]).file("-o", out)?;
+            for (name, _) in &plys {
+                check = check.file("-o", &dir.join(name))?;
+            }
+            drop(check);
+            for (name, bytes) in &plys {
+                nffkit_formats::atomic::write_bytes(&dir.join(name), bytes)?;
+            }
+            nffkit_formats::atomic::write_bytes(out, xml.as_bytes())?;
+            Ok(lost)
         }
         Format::Glb => {
             let doc = gltf::build(scene, opts, None);

@@ -2,12 +2,14 @@
 //! language, so the same scene can be rendered elsewhere and compared.
 //!
 //! Each writer lives in its own file: `pov.rs` (POV-Ray 3.7 SDL), `obj.rs`
-//! (Wavefront OBJ + MTL), `gltf.rs` (glTF 2.0, .gltf + .bin or .glb).
+//! (Wavefront OBJ + MTL), `gltf.rs` (glTF 2.0, .gltf + .bin or .glb),
+//! `mitsuba.rs` (Mitsuba 3 XML + PLY).
 //! `triangles.rs` turns any scene into triangle lists by material, for the
 //! formats that hold nothing else. Every writer returns what the target
 //! cannot hold, one note a line; the binary writes the files atomically.
 
 pub mod gltf;
+pub mod mitsuba;
 pub mod obj;
 pub mod pov;
 pub mod triangles;
@@ -30,6 +32,8 @@ pub enum Format {
     Gltf,
     /// glTF 2.0, binary (.glb).
     Glb,
+    /// Mitsuba 3 scene XML, with PLY files beside it (.xml).
+    Mitsuba,
 }
 
 impl Format {
@@ -43,6 +47,7 @@ impl Format {
             "obj" => Format::Obj,
             "gltf" => Format::Gltf,
             "glb" => Format::Glb,
+            "xml" => Format::Mitsuba,
             _ => return None,
         })
     }

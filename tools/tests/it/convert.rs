@@ -1,6 +1,7 @@
 //! `nffconvert` out of NFF: real programs read what it writes. POV-Ray
 //! renders the export of SPD databases with `render`'s silhouettes and
-//! brightness; the Khronos glTF-Validator finds no error in any glTF;
+//! brightness, Mitsuba 3 with its silhouettes; the Khronos glTF-Validator
+//! finds no error in any glTF;
 //! `mesh2nff` (through tobj and gltf) reads the OBJ and glTF back to the
 //! same triangles.
 
@@ -96,6 +97,46 @@ fn povray_renders_the_export_with_renders_silhouettes_and_brightness() {
         eprintln!("{scene}: foreground agreement {agreement:.4}, brightness POV-Ray/render {brightness:.3}");
         assert!(agreement >= 0.98, "{scene}: foreground agreement {agreement}");
         assert!((0.9..=1.1).contains(&brightness), "{scene}: brightness ratio {brightness}");
+    }
+}
+
+#[test]
+fn mitsuba_renders_the_export_with_renders_silhouettes() {
+    let Some(python) = program("python") else { return };
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/support/mitsuba-coverage.py");
+    let dir = tempfile::tempdir().unwrap();
+    for scene in ["mount_s5", "gears_s1", "tree_s1", "rings_s1", "teapot_s1", "jacks_s1", "lattice_s1"] {
+        let src = std::fs::read_to_string(spd(scene)).unwrap();
+        let flat = silhouette_scene(&src)
+            .lines()
+            .map(|l| if l.starts_with("resolution") { "resolution 128 128" } else { l })
+            .collect::<Vec<_>>()
+            .join("\n");
+        let nff = dir.path().join(format!("{scene}.nff"));
+        std::fs::write(&nff, flat).unwrap();
+        let (xml, pgm, ours) = (
+            dir.path().join(format!("{scene}.xml")),
+            dir.path().join(format!("{scene}.pgm")),
+            dir.path().join(format!("{scene}.png")),
+        );
+        ok(&run(CONVERT, &[path(&nff), "-o", path(&xml), "-q"]));
+        let o = Command::new(&python).arg(&script).arg(&xml).arg(&pgm).output().unwrap();
+        if !o.status.success() && String::from_utf8_lossy(&o.stderr).contains("No module named 'mitsuba'") {
+            let required = std::env::var("NFFKIT_TEST_TOOLS").is_ok_and(|v| v == "required");
+            assert!(!required, "mitsuba is missing (scripts/install-test-tools.sh installs it)");
+            eprintln!("skipped: mitsuba is not installed");
+            return;
+        }
+        assert!(o.status.success(), "{scene}: {}", String::from_utf8_lossy(&o.stderr));
+        // Coverage, ours: white under ambient 1 on black, 16 samples.
+        ok(&run(RENDER, &[path(&nff), "-o", path(&ours), "--ambient", "1", "--spp", "16", "-q"]));
+        let a = image::open(&ours).unwrap().to_luma8();
+        let b = image::open(&pgm).unwrap().to_luma8();
+        assert_eq!(a.dimensions(), b.dimensions(), "{scene}");
+        let agree = a.pixels().zip(b.pixels()).filter(|(p, q)| (p.0[0] > 127) == (q.0[0] > 127)).count();
+        let agreement = agree as f64 / a.pixels().len() as f64;
+        eprintln!("{scene}: Mitsuba foreground agreement {agreement:.4}");
+        assert!(agreement >= 0.98, "{scene}: Mitsuba foreground agreement {agreement}");
     }
 }
 
