@@ -183,7 +183,8 @@ fn write(
         Format::Mitsuba => {
             let out = out.context("Mitsuba needs -o")?;
             let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-            let (xml, plys, lost) = mitsuba::write(scene, opts, |m| format!("{stem}-m{m}.ply"));
+            let mitsuba::MitsubaScene { xml, plys, lost } =
+                mitsuba::write(scene, opts, |m| format!("{stem}-m{m}.ply"));
             let dir = out.parent().unwrap_or(Path::new(""));
             let mut check = Outputs::new().inputs([input]).file("-o", out)?;
             for (name, _) in &plys {

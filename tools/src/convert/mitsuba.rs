@@ -25,13 +25,18 @@ use nffkit_formats::{Material, Scene, Shape};
 use nffkit_tracer::prepare::{point_lights, Ambient};
 use std::fmt::Write as _;
 
-/// The XML (naming its PLY files `ply_name(material)`), the PLY files'
-/// names and bytes, and what Mitsuba's copy approximates.
-pub fn write(
-    scene: &Scene,
-    opts: &ExportOptions,
-    ply_name: impl Fn(usize) -> String,
-) -> (String, Vec<(String, Vec<u8>)>, Vec<String>) {
+/// A Mitsuba scene: its XML and the PLY files it names.
+pub struct MitsubaScene {
+    /// The scene XML.
+    pub xml: String,
+    /// The PLY files' names (relative to the XML's folder) and bytes.
+    pub plys: Vec<(String, Vec<u8>)>,
+    /// What Mitsuba's copy approximates.
+    pub lost: Vec<String>,
+}
+
+/// The scene as Mitsuba 3 XML, its PLY files named `ply_name(material)`.
+pub fn write(scene: &Scene, opts: &ExportOptions, ply_name: impl Fn(usize) -> String) -> MitsubaScene {
     let mut x = String::new();
     let _ =
         writeln!(x, "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<!-- Written by nffkit's nffconvert. -->");
@@ -137,7 +142,7 @@ pub fn write(
          point lights fall off with distance, and the background lights nothing"
             .into(),
     );
-    (x, files, lost)
+    MitsubaScene { xml: x, plys: files, lost }
 }
 
 fn csv(v: DVec3) -> String {
