@@ -10,11 +10,13 @@
 //! - reading, building and rendering the sphereflake at level 6 (597,871
 //!   spheres) against level 2, each in a fresh process, with its peak memory.
 //!
-//! With `--shared DIR` (the project's `../shared`) it also runs POV-Ray
-//! (`bench/vs-povray`) and Intel Embree (`bench/embree-rays`, single rays and
-//! 8/16-wide packets) on the same scenes and prints their figures beside
-//! ours. Figures are noisy on shared machines: compare columns of one run.
+//! With `--povray` it also runs POV-Ray on nffconvert's export of the same
+//! scenes ([`povray`]: anti-aliasing, soft shadows, depth of field), and
+//! with `--shared DIR` (the project's `../shared`) Intel Embree
+//! (`bench/embree-rays`, single rays and 8/16-wide packets), and prints
+//! their figures beside ours. Figures are noisy on shared machines: compare columns of one run.
 
+pub mod povray;
 pub mod table1;
 
 use crate::gen::sphereflake::{Floor, Sphereflake};

@@ -4,9 +4,7 @@
 use anyhow::{bail, Context, Result};
 use clap::Parser;
 use nffkit_formats::nff::{self, ParseOptions};
-use nffkit_tools::bench::{
-    self, capture, embree_mrays, number_after, render_timing, write_flake, FlakeProcess,
-};
+use nffkit_tools::bench::{self, capture, embree_mrays, render_timing, write_flake, FlakeProcess};
 use nffkit_tools::cli_util;
 use nffkit_tools::qa::golden::find_scenes_dir;
 use nffkit_tracer::bench::{ray_rates, RayRates};
@@ -22,10 +20,13 @@ use std::time::Instant;
 /// shadow rays per second on one thread, and whole Whitted renders (depth 6)
 /// at 1 and 16 spp on every thread; `render --check` of mount_s7 as a whole
 /// process; then the sphereflake at levels 2 and 6, each read, built and
-/// rendered in a fresh process, with its peak memory. With --shared DIR
-/// (the project's ../shared), POV-Ray (bench/vs-povray) and Intel Embree
-/// (bench/embree-rays: rtcIntersect1 and 8/16-wide packets) are run on the
-/// same scenes and shown beside these figures.
+/// rendered in a fresh process, with its peak memory. With --povray,
+/// POV-Ray 3.7 renders the same scenes as nffconvert writes them, whole
+/// processes side by side: 1 and 16 spp, 16 spp pruned, soft shadows
+/// (area lights) and depth of field (focal blur). With --shared DIR (the
+/// project's ../shared), Intel Embree (bench/embree-rays: rtcIntersect1
+/// and 8/16-wide packets) is run on the same scenes and shown beside these
+/// figures.
 #[derive(Parser, Debug)]
 #[command(name = "nffbench", version)]
 struct Args {
@@ -36,10 +37,13 @@ struct Args {
     /// processes); the best is reported.
     #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=100))]
     runs: u32,
-    /// The shared folder with bench/vs-povray and bench/embree-rays: run
-    /// POV-Ray and Embree beside us (slow: minutes).
+    /// The shared folder with bench/embree-rays: run Embree beside us.
     #[arg(long, value_name = "DIR")]
     shared: Option<PathBuf>,
+    /// Run POV-Ray (`povray` on PATH) on nffconvert's export of each scene,
+    /// beside us (slow: minutes).
+    #[arg(long)]
+    povray: bool,
     /// Sphereflake level of the big-scene test (compared with level 2).
     #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u32).range(2..=7))]
     flake_level: u32,
@@ -62,10 +66,9 @@ struct Column {
     shadow: f64,
     spp1: bench::RenderTiming,
     spp16: bench::RenderTiming,
-    pov1: Option<(f64, f64)>,
-    pov16: Option<(f64, f64)>,
-    /// 16 spp with our `--min-weight 0.0039`, POV-Ray's `adc_bailout`.
-    pov16_pruned: Option<(f64, f64)>,
+    /// POV-Ray against us, median whole-process seconds, per setting of
+    /// `bench::povray::settings`.
+    pov: Vec<(&'static str, (f64, f64))>,
     embree: Option<[Option<f64>; 4]>,
 }
 
@@ -83,33 +86,27 @@ fn measure(name: &str, spd: &Path, a: &Args, threads: usize) -> Result<Column> {
     nffkit_tools::eprintln_safe!("{name}: Whitted renders on {threads} threads");
     let spp1 = render_timing(&scene, &base, a.runs)?;
     let spp16 = render_timing(&scene, &[&base[..], &["--spp", "16"]].concat(), a.runs)?;
-    let (mut pov1, mut pov16, mut pov16_pruned, mut embree) = (None, None, None, None);
-    if let Some(shared) = &a.shared {
-        let render = std::env::current_exe()?.with_file_name("render");
-        let render = render.to_str().context("the render binary's path is not UTF-8")?;
-        let pov = |aa: bool, extra: &[&str]| -> Result<(f64, f64)> {
-            nffkit_tools::eprintln_safe!(
-                "{name}: POV-Ray{} {}",
-                if aa { " --aa" } else { "" },
-                extra.join(" ")
-            );
-            let mut args = vec!["--scene", name, "--size", &size, "--runs", "3"];
-            if aa {
-                args.push("--aa");
-            }
-            args.extend(["--", render, "--depth", "6", "-q"]);
-            if aa {
-                args.extend(["--spp", "16"]);
-            }
-            args.extend(extra);
-            let out = capture(&shared.join("bench/vs-povray"), &args)?;
-            let t = number_after(&out, "povray  median").context("no POV-Ray time")?;
-            let ours = number_after(&out, "ours    median").context("no time of ours")?;
-            Ok((t, ours))
+    let mut pov = Vec::new();
+    if a.povray {
+        let dir = tempfile::tempdir()?;
+        let runner = bench::povray::Runner {
+            povray: povray_path()?,
+            render: std::env::current_exe()?.with_file_name("render"),
+            size: a.size,
+            runs: a.runs,
+            dir: dir.path().to_path_buf(),
         };
-        pov1 = Some(pov(false, &[])?);
-        pov16 = Some(pov(true, &[])?);
-        pov16_pruned = Some(pov(true, &["--min-weight", "0.0039"])?);
+        // Soft lights a tenth of their distance wide; a lens whose blur
+        // shows (balls_s4: the eye 2.95 from `at`; mount_s7: 2.9).
+        let (light, aperture) = if name.starts_with("mount") { (17.0, 0.05) } else { (0.5, 0.05) };
+        for setting in bench::povray::settings(light, aperture) {
+            nffkit_tools::eprintln_safe!("{name}: POV-Ray and render, {}", setting.label);
+            let t = runner.compare(&path, &scene, &setting)?;
+            pov.push((setting.label, t));
+        }
+    }
+    let mut embree = None;
+    if let Some(shared) = &a.shared {
         let em = |extra: &[&str]| -> Result<Option<f64>> {
             nffkit_tools::eprintln_safe!("{name}: Embree {}", extra.join(" "));
             let args = [&[name, "--width", &size, "--height", &size, "--threads", "1"][..], extra].concat();
@@ -124,9 +121,7 @@ fn measure(name: &str, spd: &Path, a: &Args, threads: usize) -> Result<Column> {
         shadow: rates.shadow,
         spp1,
         spp16,
-        pov1,
-        pov16,
-        pov16_pruned,
+        pov,
         embree,
     })
 }
@@ -204,15 +199,13 @@ fn report(a: &Args) -> Result<String> {
             let best = c.embree.and_then(|e| e[1].into_iter().chain(e[2]).reduce(f64::max));
             best.map_or("-".into(), |v| format!("{:.2}x", c.rates.eye_packet / v))
         });
-        let pov_rows = [
-            ("POV-Ray 1 spp, whole process", 0),
-            ("POV-Ray 16 spp (--aa)", 1),
-            ("POV-Ray 16 spp, ours with --min-weight 0.0039 (its adc_bailout)", 2),
-        ];
-        for (label, pick) in pov_rows {
-            row(&format!("{label}: POV-Ray s / ours s = speedup"), &|c| {
-                [c.pov1, c.pov16, c.pov16_pruned][pick]
-                    .map_or("-".into(), |(p, o)| format!("{p:.3} / {o:.3} = {:.2}x", p / o))
+    }
+    if a.povray {
+        for k in 0..cols[0].pov.len() {
+            let label = cols[0].pov[k].0;
+            row(&format!("POV-Ray {label}, whole process: POV-Ray s / ours s = speedup"), &|c| {
+                let (p, o) = c.pov[k].1;
+                format!("{p:.3} / {o:.3} = {:.2}x", p / o)
             });
         }
     }
@@ -289,19 +282,26 @@ fn spd_dir(a: &Args) -> Result<PathBuf> {
     Ok(dir)
 }
 
-/// The comparison scripts of `--shared DIR`, there before anything is timed.
+/// The comparison script of `--shared DIR`, there before anything is timed.
 fn check_shared(shared: &Path) -> Result<()> {
-    for script in ["bench/vs-povray", "bench/embree-rays"] {
-        let path = shared.join(script);
-        if !path.is_file() {
-            bail!(
-                "--shared {}: {} not found (the folder must hold bench/vs-povray and bench/embree-rays)",
-                shared.display(),
-                path.display()
-            );
-        }
+    let path = shared.join("bench/embree-rays");
+    if !path.is_file() {
+        bail!(
+            "--shared {}: {} not found (the folder must hold bench/embree-rays)",
+            shared.display(),
+            path.display()
+        );
     }
     Ok(())
+}
+
+/// POV-Ray on PATH, for --povray.
+fn povray_path() -> Result<PathBuf> {
+    let paths = std::env::var_os("PATH").unwrap_or_default();
+    std::env::split_paths(&paths)
+        .map(|d| d.join("povray"))
+        .find(|p| p.is_file())
+        .context("--povray: no `povray` on PATH (Debian: apt-get install povray)")
 }
 
 fn run(a: &Args) -> Result<()> {
@@ -310,6 +310,9 @@ fn run(a: &Args) -> Result<()> {
     }
     if let Some(shared) = &a.shared {
         check_shared(shared)?;
+    }
+    if a.povray {
+        povray_path()?;
     }
     cli_util::print(report(a)?)
 }

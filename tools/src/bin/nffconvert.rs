@@ -55,6 +55,10 @@ struct Args {
     /// from-at distance).
     #[arg(long, value_parser = positive)]
     focus: Option<f64>,
+    /// POV-Ray: skip rays whose weight falls below this (`adc_bailout`),
+    /// as `render --min-weight`; 0 traces every ray.
+    #[arg(long, default_value_t = 0.0, value_parser = weight)]
+    min_weight: f64,
     /// OBJ and glTF: spheres as six faces of N x N quadrilaterals, cones as
     /// 4N sides.
     #[arg(long, value_name = "N", default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=256))]
@@ -66,6 +70,13 @@ struct Args {
 
 fn language(s: &str) -> Result<Dialect, String> {
     s.to_ascii_lowercase().parse().map_err(|_| format!("`{s}` is no scene language; expected nff or p3f"))
+}
+
+fn weight(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if (0.0..1.0).contains(&v) => Ok(v),
+        _ => Err(format!("expected a number in [0, 1), found `{s}`")),
+    }
 }
 
 fn positive(s: &str) -> Result<f64, String> {
@@ -124,6 +135,7 @@ fn run(a: &Args) -> Result<()> {
         aperture: a.aperture,
         focus: a.focus,
         tessellate: a.tessellate,
+        min_weight: a.min_weight,
     };
     let lost = write(&scene, format, &a.input, a.output.as_deref(), &opts)?;
     if !a.quiet {

@@ -77,11 +77,21 @@ pub struct ExportOptions {
     /// Tessellation of spheres and cones for triangle-only formats: a
     /// sphere is six faces of N x N quadrilaterals, a cone 4N sides.
     pub tessellate: u32,
+    /// Rays whose weight falls below this are not traced (`render
+    /// --min-weight`; POV-Ray's `adc_bailout`).
+    pub min_weight: f64,
 }
 
 impl Default for ExportOptions {
     fn default() -> Self {
-        ExportOptions { depth: 6, area_light: None, aperture: None, focus: None, tessellate: 8 }
+        ExportOptions {
+            depth: 6,
+            area_light: None,
+            aperture: None,
+            focus: None,
+            tessellate: 8,
+            min_weight: 0.0,
+        }
     }
 }
 

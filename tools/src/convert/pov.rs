@@ -13,8 +13,9 @@
 //!   `interior { ior }`. Approximated: POV-Ray dims a transmitting
 //!   surface's diffuse and highlight by (1 - T), and lets light through it
 //!   to what it shadows; `render` does neither.
-//! - `global_settings`: `max_trace_level` from the depth, `adc_bailout 0`
-//!   (every ray, as `render` traces them), `assumed_gamma 1`.
+//! - `global_settings`: `max_trace_level` from the depth, `adc_bailout`
+//!   from `--min-weight` (0 by default: every ray, as `render` traces
+//!   them), `assumed_gamma 1`.
 //! - Shapes: spheres, open cones and cylinders, boxes, planes for `pl`,
 //!   polygons as one `mesh2` per run of one material (triangulated as
 //!   `render` does), `pp` normals as `normal_vectors`.
@@ -43,8 +44,9 @@ pub fn write(scene: &Scene, opts: &ExportOptions, out: &mut dyn Write) -> io::Re
     writeln!(out, "#version 3.7;")?;
     writeln!(
         out,
-        "global_settings {{ max_trace_level {} adc_bailout 0 assumed_gamma 1 ambient_light 0 }}",
-        opts.depth
+        "global_settings {{ max_trace_level {} adc_bailout {} assumed_gamma 1 ambient_light 0 }}",
+        opts.depth,
+        num(opts.min_weight)
     )?;
     let bg = scene.background.unwrap_or(DVec3::ZERO);
     writeln!(out, "background {{ color rgb <{}> }}", vec3(bg))?;

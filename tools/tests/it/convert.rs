@@ -275,3 +275,31 @@ fn nffconvert_guards_its_input_and_its_second_file() {
     assert!(text.contains("area_light <0.5, 0, 0>, <0, 0, 0.5>, 4, 4 jitter orient adaptive 0"), "{text}");
     assert!(text.contains("aperture 0.2") && text.contains("blur_samples 16"), "{text}");
 }
+
+#[test]
+fn every_benchmark_setting_renders_in_povray() {
+    let Some(povray) = program("povray") else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let nff = PathBuf::from(spd("balls_s1"));
+    let scene = nff::parse(&std::fs::read(&nff).unwrap(), &ParseOptions::default()).unwrap().scene;
+    let runner = nffkit_tools::bench::povray::Runner {
+        povray,
+        render: PathBuf::from(RENDER),
+        size: 24,
+        runs: 1,
+        dir: dir.path().to_path_buf(),
+    };
+    let settings = nffkit_tools::bench::povray::settings(0.5, 0.05);
+    assert_eq!(settings.len(), 5);
+    for setting in &settings {
+        let (pov, ours) = runner.compare(&nff, &scene, setting).unwrap();
+        assert!(pov > 0.0 && ours > 0.0, "{}", setting.label);
+        let text = std::fs::read_to_string(dir.path().join("scene.pov")).unwrap();
+        if setting.label.starts_with("soft") {
+            assert!(text.contains("area_light <0.5, 0, 0>, <0, 0, 0.5>, 4, 4 jitter orient adaptive 0"));
+        }
+        if setting.label.starts_with("depth") {
+            assert!(text.contains("aperture 0.1") && text.contains("blur_samples 16"));
+        }
+    }
+}
