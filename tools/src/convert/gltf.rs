@@ -13,7 +13,8 @@
 //! base colour = colour x Kd over the Kd those give. A transmitter gets
 //! `KHR_materials_transmission` (T) and `KHR_materials_ior`. Every material
 //! is double-sided, as `render` shades. glTF point lights fall off with
-//! the square of the distance; NFF's do not.
+//! the square of the distance, NFF's do not: each intensity is scaled by
+//! its distance to the scene's centre squared, so they agree there.
 
 use super::triangles::{groups, Group};
 use super::ExportOptions;
@@ -88,7 +89,7 @@ pub fn build(scene: &Scene, opts: &ExportOptions, bin_uri: Option<&str>) -> Gltf
     let (resolved, _) = point_lights(&scene.lights, Ambient::Value(0.0));
     let mut lights = Vec::new();
     for (l, file) in resolved.iter().zip(&scene.lights) {
-        let i = l.intensity;
+        let i = l.intensity * super::mitsuba::falloff_scale(scene, file.position) as f32;
         let peak = i.max_element().max(f32::MIN_POSITIVE);
         lights.push(json!({
             "type": "point",
@@ -141,7 +142,11 @@ pub fn build(scene: &Scene, opts: &ExportOptions, bin_uri: Option<&str>) -> Gltf
         lost.push("the background colour".into());
     }
     if !scene.lights.is_empty() {
-        lost.push("lights without falloff: glTF's point lights fall off with the distance squared".into());
+        lost.push(
+            "lights without falloff: glTF's fall off with the distance squared (they match NFF's at the \
+             scene's centre)"
+                .into(),
+        );
     }
     Gltf { json: doc, bin, lost }
 }

@@ -6,9 +6,12 @@
 //!   independent samples per pixel.
 //! - Integrator: `path` with `max_depth` the depth.
 //! - Emitters: `point` lights at NFF's intensities (uncoloured ones
-//!   1/sqrt(n)); Mitsuba's fall off with the square of the distance, NFF's
-//!   do not. The background colour, which in NFF lights nothing, is left
-//!   out (a `constant` emitter would light the scene).
+//!   1/sqrt(n)) times pi and the square of their distance to the scene's
+//!   centre: Mitsuba's fall off with the square of the distance, NFF's do
+//!   not, so they agree at the centre, and its diffuse surfaces reflect
+//!   1/pi of what NFF's do. The background is a `constant` emitter, seen
+//!   by every ray that leaves the scene as in NFF, but lighting the scene
+//!   too, as in NFF it does not.
 //! - Materials, approximated: a transmitter is a `dielectric` of its index;
 //!   an opaque one with Ks >= Kd a `conductor` (a perfect mirror tinted by
 //!   Ks); one with a highlight a `twosided` `roughplastic` (diffuse colour x
@@ -77,7 +80,9 @@ pub fn write(scene: &Scene, opts: &ExportOptions, ply_name: impl Fn(usize) -> St
     }
     let (resolved, _) = point_lights(&scene.lights, Ambient::Value(0.0));
     for (l, file) in resolved.iter().zip(&scene.lights) {
-        let i = l.intensity;
+        // Mitsuba's diffuse reflects rho/pi of the irradiance; NFF's Kd x
+        // colour of the light's intensity: pi more light gives NFF's.
+        let i = l.intensity * (falloff_scale(scene, file.position) * std::f64::consts::PI) as f32;
         let _ = writeln!(
             x,
             "  <emitter type=\"point\"><point name=\"position\" value=\"{}\"/><rgb name=\"intensity\" value=\"{}, {}, {}\"/></emitter>",
@@ -85,6 +90,13 @@ pub fn write(scene: &Scene, opts: &ExportOptions, ply_name: impl Fn(usize) -> St
             i.x,
             i.y,
             i.z
+        );
+    }
+    if let Some(b) = scene.background.filter(|b| b.max_element() > 0.0) {
+        let _ = writeln!(
+            x,
+            "  <emitter type=\"constant\"><rgb name=\"radiance\" value=\"{}\"/></emitter>",
+            csv(b)
         );
     }
     let default = Material::default();
@@ -139,10 +151,19 @@ pub fn write(scene: &Scene, opts: &ExportOptions, ply_name: impl Fn(usize) -> St
     let _ = writeln!(x, "</scene>");
     lost.push(
         "NFF's shading: materials become Mitsuba's diffuse, rough plastic, conductor or dielectric, \
-         point lights fall off with distance, and the background lights nothing"
+         point lights fall off with distance (they match NFF's at the scene's centre), and the \
+         background, a constant emitter, lights the scene too"
             .into(),
     );
     MitsubaScene { xml: x, plys: files, lost }
+}
+
+/// What a light's intensity is multiplied by where lights fall off with
+/// the square of the distance: that distance to the scene's centre, squared,
+/// so that the light there is NFF's (which does not fall off).
+pub(crate) fn falloff_scale(scene: &Scene, light: DVec3) -> f64 {
+    let centre = scene.bounds().map_or(DVec3::ZERO, |(lo, hi)| (lo + hi) * 0.5);
+    (light - centre).length_squared().max(1e-12)
 }
 
 fn csv(v: DVec3) -> String {

@@ -57,7 +57,7 @@ fn outputs_are_checked_before_any_work() {
     assert!(stderr(&o).contains("--out taken: it is a file, not a folder"), "{}", stderr(&o));
     std::fs::create_dir(d.join("empty")).unwrap();
     let o = run_in(d, NFFBENCH, &["--shared", "empty", "--size", "16", "--runs", "1"]);
-    assert!(stderr(&o).contains("bench/vs-povray not found"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("bench/embree-rays not found"), "{}", stderr(&o));
 }
 
 #[test]
