@@ -8,25 +8,24 @@
 //! transmission by Fresnel's equations, an NFF one by its fixed Ks and T;
 //! a P3F light without a colour is white, an NFF one 1/sqrt(n).
 
-use crate::scene::{Color, Dialect, Scene, View};
+use crate::nff::P3F_KEYWORDS;
+use crate::scene::{Color, Dialect, Scene};
 use glam::DVec3;
 
 /// How much of a text [`sniff`] reads.
 const SNIFF_BYTES: usize = 1 << 16;
 
-/// Words that start a line only in P3F: its entities and directives, and
-/// its view's lens lines.
-const P3F_WORDS: [&[u8]; 9] =
-    [b"bclr", b"al", b"box", b"mesh", b"env", b"spp", b"accel", b"aperture", b"focal"];
+/// The view's lines only P3F has.
+const P3F_VIEW_LINES: [&str; 2] = ["aperture", "focal"];
 
 /// The dialect of a scene text (standard input, or a file whose name says
 /// nothing): P3F when one of its first lines starts with a word only P3F
-/// has, NFF otherwise.
+/// has (its entities and directives, its view's lens lines), NFF otherwise.
 pub fn sniff(src: &[u8]) -> Dialect {
     let head = &src[..src.len().min(SNIFF_BYTES)];
     let p3f = head.split(|&b| b == b'\n' || b == b'\r').any(|line| {
         let word = line.split(|b| b.is_ascii_whitespace()).find(|w| !w.is_empty()).unwrap_or_default();
-        P3F_WORDS.contains(&word)
+        P3F_KEYWORDS.iter().chain(&P3F_VIEW_LINES).any(|k| k.as_bytes() == word)
     });
     if p3f {
         Dialect::P3f
@@ -52,16 +51,7 @@ pub fn convert_angle(angle: f64, from: Dialect, to: Dialect, width: u32, height:
     if from == to {
         return angle;
     }
-    let view = View {
-        from: DVec3::ZERO,
-        at: DVec3::NEG_Z,
-        up: DVec3::Y,
-        angle,
-        hither: 0.0,
-        resolution: [width, height],
-        lens: None,
-    };
-    let pixel = view.pixel_size(from, width, height);
+    let pixel = from.pixel_size(angle, width, height);
     let spanned = match to {
         Dialect::Nff => (width.min(height).max(2) - 1) as f64,
         Dialect::P3f => height as f64,

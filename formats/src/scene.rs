@@ -47,23 +47,10 @@ pub struct View {
 
 impl View {
     /// The side of one pixel of a `width` x `height` image on an image
-    /// plane at unit distance, as `dialect` reads `angle`: in NFF (the
-    /// spec) it spans the centres of the outer pixels of the smaller side,
-    /// so there are `n - 1` pixels across it; in P3F (the course's camera)
-    /// it spans the image height edge to edge. Pixels are square.
+    /// plane at unit distance, as `dialect` reads this view's `angle`
+    /// ([`Dialect::pixel_size`]).
     pub fn pixel_size(&self, dialect: Dialect, width: u32, height: u32) -> f64 {
-        let span = 2.0 * (self.angle.to_radians() * 0.5).tan();
-        match dialect {
-            Dialect::Nff => {
-                let n = width.min(height);
-                if n > 1 {
-                    span / (n - 1) as f64
-                } else {
-                    span
-                }
-            }
-            Dialect::P3f => span / height.max(1) as f64,
-        }
+        dialect.pixel_size(self.angle, width, height)
     }
 }
 
@@ -81,9 +68,7 @@ pub struct Lens {
 /// The language a scene was written in. It decides what the view's
 /// `angle` spans, whether transmitters weigh reflection by Fresnel's
 /// equations, and how the scene is written back.
-#[derive(
-    Debug, Clone, Copy, PartialEq, Eq, Default, strum::Display, strum::EnumString, strum::VariantArray,
-)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, strum::Display, strum::EnumString)]
 #[strum(serialize_all = "lowercase")]
 pub enum Dialect {
     /// Eric Haines' Neutral File Format (with the 2017 course's `pl` and
@@ -93,6 +78,41 @@ pub enum Dialect {
     /// The P3D course's P3F: NFF plus specular colours, area lights, a
     /// lens, a cube map and render directives (docs/p3f.md).
     P3f,
+}
+
+impl Dialect {
+    /// The side of one pixel of a `width` x `height` image on an image
+    /// plane at unit distance for a view `angle` degrees wide: in NFF (the
+    /// spec) the angle spans the centres of the outer pixels of the smaller
+    /// side, so there are `n - 1` pixels across it; in P3F (the course's
+    /// camera) it spans the image height edge to edge. Pixels are square.
+    pub fn pixel_size(self, angle: f64, width: u32, height: u32) -> f64 {
+        let span = 2.0 * (angle.to_radians() * 0.5).tan();
+        match self {
+            Dialect::Nff => {
+                let n = width.min(height);
+                if n > 1 {
+                    span / (n - 1) as f64
+                } else {
+                    span
+                }
+            }
+            Dialect::P3f => span / height.max(1) as f64,
+        }
+    }
+}
+
+/// The four corners of each face of the box `min`..`max`, counter-clockwise
+/// seen from outside.
+pub fn box_faces(min: DVec3, max: DVec3) -> [[DVec3; 4]; 6] {
+    // Corner bits: x = 1, y = 2, z = 4 at the max side.
+    const FACES: [[usize; 4]; 6] =
+        [[0, 4, 6, 2], [1, 3, 7, 5], [0, 1, 5, 4], [2, 6, 7, 3], [0, 2, 3, 1], [4, 5, 7, 6]];
+    let corner = |i: usize| {
+        let pick = |bit: usize, lo: f64, hi: f64| if i & bit != 0 { hi } else { lo };
+        DVec3::new(pick(1, min.x, max.x), pick(2, min.y, max.y), pick(4, min.z, max.z))
+    };
+    FACES.map(|f| f.map(corner))
 }
 
 /// P3F's directives: what the file asks of the renderer, defaults the

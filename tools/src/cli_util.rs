@@ -43,6 +43,11 @@ pub fn parse_pair(s: &str) -> Result<DVec2, String> {
     numbers(s, 2).map(|v| DVec2::new(v[0], v[1]))
 }
 
+/// A scene language, `nff` or `p3f` (`--dialect`).
+pub fn parse_dialect(s: &str) -> Result<nffkit_formats::Dialect, String> {
+    s.to_ascii_lowercase().parse().map_err(|_| format!("`{s}` is no scene language; expected nff or p3f"))
+}
+
 /// `W,H` as two positive whole numbers.
 pub fn parse_resolution(s: &str) -> Result<[u32; 2], String> {
     two_counts(s, "W,H")

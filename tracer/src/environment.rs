@@ -40,11 +40,6 @@ impl Face {
         let [r, g, b] = self.rgb[row as usize * self.width as usize + x.min(self.width - 1) as usize];
         Vec3A::new(r as f32, g as f32, b as f32) / 255.0
     }
-
-    /// The memory its texels take.
-    pub fn bytes(&self) -> u64 {
-        self.rgb.len() as u64 * 3
-    }
 }
 
 /// A skybox: six faces in [`FACES`] order.
@@ -57,11 +52,6 @@ impl CubeMap {
     /// A cube map of six faces, in [`FACES`] order.
     pub fn new(faces: [Face; 6]) -> CubeMap {
         CubeMap { faces }
-    }
-
-    /// The memory its texels take.
-    pub fn bytes(&self) -> u64 {
-        self.faces.iter().map(Face::bytes).sum()
     }
 
     /// The colour seen in direction `d` (any length but zero).

@@ -11,7 +11,7 @@ use crate::stats::PerKind;
 use glam::{DVec3, Vec3A};
 use nffkit_formats::polygon::{drop_repeats, triangulate};
 use nffkit_formats::scene::MAX_COORDINATE;
-use nffkit_formats::{Dialect, Scene, Shape, View};
+use nffkit_formats::{box_faces, Dialect, Scene, Shape, View};
 use std::sync::Arc;
 use strum::EnumCount;
 use thiserror::Error;
@@ -242,13 +242,6 @@ pub fn point_lights(lights: &[nffkit_formats::Light], ambient: Ambient) -> (Vec<
     (lights, ambient)
 }
 
-/// The six faces of a box as quads of corner indices (bit 0: x, bit 1: y,
-/// bit 2: z at the max side), counter-clockwise seen from outside.
-const BOX_FACES: [[usize; 4]; 6] =
-    [[0, 4, 6, 2], [1, 3, 7, 5], [0, 1, 5, 4], [2, 6, 7, 3], [0, 2, 3, 1], [4, 5, 7, 6]];
-
-/// Flatten the file's primitives into typed arrays, numbered in [`Kind`]
-/// order. Boxes become twelve triangles.
 /// The triangles of a polygon, each place once (an outline that runs
 /// over itself repeats them; a small one's repeats cost little).
 fn triangles_of(vertices: &[DVec3]) -> Vec<[u32; 3]> {
@@ -259,6 +252,8 @@ fn triangles_of(vertices: &[DVec3]) -> Vec<[u32; 3]> {
     t
 }
 
+/// Flatten the file's primitives into typed arrays, numbered in [`Kind`]
+/// order. Boxes become twelve triangles.
 pub(crate) fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_sided: bool) -> Geometry {
     let mut g = Geometry::default();
     // Sized up front, so that a large scene's arrays are not copied as they
@@ -335,13 +330,9 @@ pub(crate) fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_s
                 info[Kind::Plane as usize].push(record(cull(false), None));
             }
             Shape::Box { min, max } => {
-                let corner = |i: usize| {
-                    let pick = |bit: usize, lo: f64, hi: f64| if i & bit != 0 { hi } else { lo };
-                    v3(DVec3::new(pick(1, min.x, max.x), pick(2, min.y, max.y), pick(4, min.z, max.z)))
-                };
-                for [a, b, c, d] in BOX_FACES {
+                for [a, b, c, d] in box_faces(*min, *max) {
                     for t in [[a, b, c], [a, c, d]] {
-                        g.triangles.push(Triangle { v: t.map(corner) });
+                        g.triangles.push(Triangle { v: t.map(v3) });
                         info[Kind::Triangle as usize].push(record(cull(false), None));
                     }
                 }

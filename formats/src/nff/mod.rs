@@ -17,6 +17,7 @@ mod read;
 mod write;
 
 pub use diag::{escape, Diagnostic, Report, Severity, SHOWN_PER_KIND};
+pub(crate) use parse::P3F_KEYWORDS;
 pub use parse::{parse_sequential, ParseError, ParseOptions, Parsed, MAX_VERTICES};
 pub use read::{parse, parse_chunked};
 pub use write::{format_number, write, NffWriter};

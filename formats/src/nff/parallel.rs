@@ -118,13 +118,12 @@ fn join(parts: Vec<(Scene, bool)>, opts: &ParseOptions) -> Option<Parsed> {
     }
     for (part, quiet) in parts {
         let objects_before = !scene.primitives.is_empty();
-        let twice = |a: bool, b: bool| a && b;
         if !quiet
             || (part.view.is_some() && (scene.view.is_some() || objects_before))
             || (!part.lights.is_empty() && objects_before)
-            || twice(part.environment.is_some(), scene.environment.is_some())
-            || twice(part.directives.spp.is_some(), scene.directives.spp.is_some())
-            || twice(part.directives.accel.is_some(), scene.directives.accel.is_some())
+            || (part.environment.is_some() && scene.environment.is_some())
+            || (part.directives.spp.is_some() && scene.directives.spp.is_some())
+            || (part.directives.accel.is_some() && scene.directives.accel.is_some())
         {
             return None;
         }

@@ -37,7 +37,7 @@ struct Args {
     to: Option<Format>,
     /// The input language: nff or p3f (default: the input's extension, else
     /// its content).
-    #[arg(long, value_name = "nff|p3f", value_parser = language)]
+    #[arg(long, value_name = "nff|p3f", value_parser = cli_util::parse_dialect)]
     dialect: Option<Dialect>,
     /// POV-Ray: recursion limit (max_trace_level), counting the eye ray as
     /// 1, as `render --depth`.
@@ -66,10 +66,6 @@ struct Args {
     /// Print nothing but errors (not what the output cannot hold).
     #[arg(short, long)]
     quiet: bool,
-}
-
-fn language(s: &str) -> Result<Dialect, String> {
-    s.to_ascii_lowercase().parse().map_err(|_| format!("`{s}` is no scene language; expected nff or p3f"))
 }
 
 fn weight(s: &str) -> Result<f64, String> {
@@ -108,25 +104,25 @@ fn run(a: &Args) -> Result<()> {
         },
         (None, None) => bail!("writing to standard output needs --to (nff, p3f, pov, glb)"),
     };
+    // OBJ and glTF write one file beside their own, Mitsuba one per
+    // material (checked once the materials are known).
     let sidecar = match format {
         Format::Obj => Some("mtl"),
         Format::Gltf => Some("bin"),
-        Format::Mitsuba => Some("ply"),
         _ => None,
     };
-    let mut outputs = Outputs::new().inputs([a.input.as_path()]);
-    match (&a.output, sidecar) {
-        (Some(out), Some(ext)) if ext != "ply" => {
-            outputs = outputs.file("-o", out)?.file("-o", &beside(out, ext))?
+    match &a.output {
+        Some(out) => {
+            let outputs = Outputs::new().inputs([a.input.as_path()]).file("-o", out)?;
+            if let Some(ext) = sidecar {
+                outputs.file("-o", &beside(out, ext))?;
+            }
         }
-        (Some(out), Some(_)) => outputs = outputs.file("-o", out)?,
-        (Some(out), None) => outputs = outputs.file("-o", out)?,
-        (None, Some(ext)) => bail!("--to {format:?} writes a .{ext} file beside its own: give -o FILE"),
-        (None, None) => {}
+        None if sidecar.is_some() || format == Format::Mitsuba => {
+            bail!("--to {format:?} writes files beside its own: give -o FILE")
+        }
+        None => {}
     }
-    // (The PLY files beside a Mitsuba scene are checked once their
-    // materials are known.)
-    drop(outputs);
     let warnings = if a.quiet { input::Warnings::Hide } else { input::Warnings::Summarise };
     let scene = input::load_scene(&a.input, &ParseOptions::default(), a.dialect, warnings)?.scene;
     let opts = ExportOptions {
@@ -162,10 +158,8 @@ fn write(
     let stdout_or = |bytes: &[u8]| cli_util::write_output(out, |w| w.write_all(bytes));
     match format {
         Format::Nff | Format::P3f => {
-            let (converted, lost) = match format.dialect() {
-                Some(Dialect::P3f) => dialect::to_p3f(scene),
-                _ => dialect::to_nff(scene),
-            };
+            let (converted, lost) =
+                if format == Format::P3f { dialect::to_p3f(scene) } else { dialect::to_nff(scene) };
             cli_util::write_output(out, |w| nff::write(&converted, w).map(|_| ()))?;
             Ok(lost)
         }

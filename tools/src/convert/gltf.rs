@@ -17,7 +17,7 @@
 //! its distance to the scene's centre squared, so they agree there.
 
 use super::triangles::{groups, Group};
-use super::ExportOptions;
+use super::{falloff_scale, ExportOptions, Frame};
 use glam::{DMat3, DQuat, DVec3};
 use nffkit_formats::mesh::gltf::whitted_terms;
 use nffkit_formats::{Material, Scene};
@@ -51,32 +51,26 @@ pub fn build(scene: &Scene, opts: &ExportOptions, bin_uri: Option<&str>) -> Gltf
             .collect();
         let normal = push_vec3(&mut bin, &mut views, &mut accessors, &normals, false);
         let indices = push_indices(&mut bin, &mut views, &mut accessors, g);
-        let default = Material::default();
-        let m = g.material.checked_sub(1).map_or(&default, |i| &scene.materials[i]);
+        let m = super::material(scene, g.material);
         primitives.push(json!({
             "attributes": { "POSITION": position, "NORMAL": normal },
             "indices": indices,
             "material": materials.len(),
             "mode": 4
         }));
-        materials.push(material(g.material, m));
+        materials.push(material(g.material, &m));
     }
     let mut nodes = vec![json!({ "name": "scene", "mesh": 0 })];
     let mut cameras = Vec::new();
     if let Some(v) = &scene.view {
-        let [w, h] = v.resolution;
-        let pixel = v.pixel_size(scene.dialect, w, h);
-        let forward = (v.at - v.from).normalize();
-        let right = forward.cross(v.up.normalize()).normalize();
-        let up = right.cross(forward);
-        let rotation = DQuat::from_mat3(&DMat3::from_cols(right, up, -forward)).normalize();
-        let znear = if v.hither > 0.0 { v.hither } else { 1e-3 * (v.at - v.from).length() };
+        let f = Frame::of(v, scene);
+        let rotation = DQuat::from_mat3(&DMat3::from_cols(f.right, f.up, -f.forward)).normalize();
         cameras.push(json!({
             "type": "perspective",
             "perspective": {
-                "yfov": 2.0 * (pixel * h as f64 * 0.5).atan(),
-                "aspectRatio": w as f64 / h as f64,
-                "znear": znear
+                "yfov": f.vertical_fov(),
+                "aspectRatio": f.width as f64 / f.height as f64,
+                "znear": f.near
             }
         }));
         nodes.push(json!({
@@ -89,7 +83,7 @@ pub fn build(scene: &Scene, opts: &ExportOptions, bin_uri: Option<&str>) -> Gltf
     let (resolved, _) = point_lights(&scene.lights, Ambient::Value(0.0));
     let mut lights = Vec::new();
     for (l, file) in resolved.iter().zip(&scene.lights) {
-        let i = l.intensity * super::mitsuba::falloff_scale(scene, file.position) as f32;
+        let i = l.intensity * falloff_scale(scene, file.position) as f32;
         let peak = i.max_element().max(f32::MIN_POSITIVE);
         lights.push(json!({
             "type": "point",

@@ -22,7 +22,7 @@
 //!   squares) as one PLY per material.
 
 use super::triangles::{groups, Group};
-use super::{num, ExportOptions};
+use super::{falloff_scale, num, ExportOptions, Frame};
 use glam::DVec3;
 use nffkit_formats::{Material, Scene, Shape};
 use nffkit_tracer::prepare::{point_lights, Ambient};
@@ -50,17 +50,15 @@ pub fn write(scene: &Scene, opts: &ExportOptions, ply_name: impl Fn(usize) -> St
         opts.depth
     );
     if let Some(v) = &scene.view {
-        let [w, h] = v.resolution;
-        let pixel = v.pixel_size(scene.dialect, w, h);
-        let fov = 2.0 * (pixel * h as f64 * 0.5).atan().to_degrees();
-        let near = if v.hither > 0.0 { v.hither } else { 1e-3 * (v.at - v.from).length() };
+        let f = Frame::of(v, scene);
+        let (w, h) = (f.width, f.height);
         let _ = writeln!(x, "  <sensor type=\"perspective\">");
         let _ = writeln!(
             x,
             "    <string name=\"fov_axis\" value=\"y\"/>\n    <float name=\"fov\" value=\"{}\"/>",
-            num(fov)
+            num(f.vertical_fov().to_degrees())
         );
-        let _ = writeln!(x, "    <float name=\"near_clip\" value=\"{}\"/>", num(near));
+        let _ = writeln!(x, "    <float name=\"near_clip\" value=\"{}\"/>", num(f.near));
         let _ = writeln!(
             x,
             "    <transform name=\"to_world\"><lookat origin=\"{}\" target=\"{}\" up=\"{}\"/></transform>",
@@ -99,14 +97,12 @@ pub fn write(scene: &Scene, opts: &ExportOptions, ply_name: impl Fn(usize) -> St
             csv(b)
         );
     }
-    let default = Material::default();
-    let material_of = |m: usize| m.checked_sub(1).map_or(&default, |i| &scene.materials[i]);
     let mut used: Vec<usize> =
         scene.primitives.iter().map(|p| p.material.map_or(0, |m| m as usize + 1)).collect();
     used.sort_unstable();
     used.dedup();
     for &m in &used {
-        bsdf(m, material_of(m), &mut x);
+        bsdf(m, &super::material(scene, m), &mut x);
     }
     // Spheres and cylinders natively; the rest as triangles.
     let mut rest = scene.clone();
@@ -156,14 +152,6 @@ pub fn write(scene: &Scene, opts: &ExportOptions, ply_name: impl Fn(usize) -> St
             .into(),
     );
     MitsubaScene { xml: x, plys: files, lost }
-}
-
-/// What a light's intensity is multiplied by where lights fall off with
-/// the square of the distance: that distance to the scene's centre, squared,
-/// so that the light there is NFF's (which does not fall off).
-pub(crate) fn falloff_scale(scene: &Scene, light: DVec3) -> f64 {
-    let centre = scene.bounds().map_or(DVec3::ZERO, |(lo, hi)| (lo + hi) * 0.5);
-    (light - centre).length_squared().max(1e-12)
 }
 
 fn csv(v: DVec3) -> String {

@@ -14,7 +14,8 @@ pub mod obj;
 pub mod pov;
 pub mod triangles;
 
-use nffkit_formats::Dialect;
+use glam::DVec3;
+use nffkit_formats::{Material, Scene, View};
 use std::path::Path;
 
 /// The languages `nffconvert` writes.
@@ -50,15 +51,6 @@ impl Format {
             "xml" => Format::Mitsuba,
             _ => return None,
         })
-    }
-
-    /// The scene language, for NFF and P3F.
-    pub fn dialect(self) -> Option<Dialect> {
-        match self {
-            Format::Nff => Some(Dialect::Nff),
-            Format::P3f => Some(Dialect::P3f),
-            _ => None,
-        }
     }
 }
 
@@ -104,4 +96,57 @@ pub(crate) fn num(x: f64) -> String {
 /// A vector as `x, y, z`.
 pub(crate) fn vec3(v: glam::DVec3) -> String {
     format!("{}, {}, {}", num(v.x), num(v.y), num(v.z))
+}
+
+/// A view's camera as the writers need it: the unit frame `render`'s
+/// camera uses (right = forward x up), the pixel size at unit distance in
+/// the scene's dialect, the image size and a near distance.
+pub(crate) struct Frame {
+    pub forward: DVec3,
+    pub right: DVec3,
+    pub up: DVec3,
+    /// One pixel's side on an image plane at unit distance.
+    pub pixel: f64,
+    pub width: u32,
+    pub height: u32,
+    /// The hither distance, or a thousandth of the view distance where it
+    /// is 0 (glTF and Mitsuba need a positive one).
+    pub near: f64,
+}
+
+impl Frame {
+    pub fn of(v: &View, scene: &Scene) -> Frame {
+        let [width, height] = v.resolution;
+        let forward = (v.at - v.from).normalize();
+        let right = forward.cross(v.up.normalize()).normalize();
+        Frame {
+            forward,
+            right,
+            up: right.cross(forward),
+            pixel: v.pixel_size(scene.dialect, width, height),
+            width,
+            height,
+            near: if v.hither > 0.0 { v.hither } else { 1e-3 * (v.at - v.from).length() },
+        }
+    }
+
+    /// The vertical field of view, edge to edge, in radians.
+    pub fn vertical_fov(&self) -> f64 {
+        2.0 * (self.pixel * self.height as f64 * 0.5).atan()
+    }
+}
+
+/// Material `i` as the writers number them: 0 the default (before any
+/// `f`), `i + 1` the scene's `i`-th.
+pub(crate) fn material(scene: &Scene, i: usize) -> Material {
+    i.checked_sub(1).map_or_else(Material::default, |i| scene.materials[i].clone())
+}
+
+/// What a light's intensity is multiplied by where lights fall off with
+/// the square of the distance (glTF, Mitsuba): that distance to the
+/// scene's centre, squared, so that the light there is NFF's (which does
+/// not fall off).
+pub(crate) fn falloff_scale(scene: &Scene, light: DVec3) -> f64 {
+    let centre = scene.bounds().map_or(DVec3::ZERO, |(lo, hi)| (lo + hi) * 0.5);
+    (light - centre).length_squared().max(1e-12)
 }

@@ -22,9 +22,7 @@ pub fn write(scene: &Scene, opts: &ExportOptions, mtl_name: &str) -> (String, St
     let mut base = 1usize;
     for g in &groups {
         let name = format!("m{}", g.material);
-        let default = Material::default();
-        let m = g.material.checked_sub(1).map_or(&default, |i| &scene.materials[i]);
-        material(&name, m, &mut mtl);
+        material(&name, &super::material(scene, g.material), &mut mtl);
         let _ = writeln!(obj, "o {name}\nusemtl {name}");
         for p in &g.positions {
             let _ = writeln!(obj, "v {} {} {}", num(p.x), num(p.y), num(p.z));

@@ -20,7 +20,7 @@
 //!   polygons as one `mesh2` per run of one material (triangulated as
 //!   `render` does), `pp` normals as `normal_vectors`.
 
-use super::{num, vec3, ExportOptions};
+use super::{num, vec3, ExportOptions, Frame};
 use glam::DVec3;
 use nffkit_formats::polygon::triangulate;
 use nffkit_formats::{Material, Scene, Shape, View};
@@ -79,15 +79,11 @@ pub fn write(scene: &Scene, opts: &ExportOptions, out: &mut dyn Write) -> io::Re
 }
 
 fn camera(v: &View, scene: &Scene, opts: &ExportOptions, out: &mut dyn Write) -> io::Result<()> {
-    let [w, h] = v.resolution;
-    let pixel = v.pixel_size(scene.dialect, w, h);
-    let forward = (v.at - v.from).normalize();
-    let right = forward.cross(v.up.normalize()).normalize();
-    let up = right.cross(forward);
+    let Frame { forward, right, up, pixel, width, height, .. } = Frame::of(v, scene);
     writeln!(out, "camera {{\n  perspective\n  location <{}>", vec3(v.from))?;
     writeln!(out, "  direction <{}>", vec3(forward))?;
-    writeln!(out, "  right <{}>", vec3(right * pixel * w as f64))?;
-    writeln!(out, "  up <{}>", vec3(up * pixel * h as f64))?;
+    writeln!(out, "  right <{}>", vec3(right * pixel * width as f64))?;
+    writeln!(out, "  up <{}>", vec3(up * pixel * height as f64))?;
     if let Some(r) = opts.aperture.filter(|&a| a > 0.0) {
         // POV-Ray's aperture is the lens's diameter.
         let focus = opts.focus.unwrap_or((v.at - v.from).length());

@@ -9,7 +9,7 @@
 use crate::spd::tessellate;
 use glam::DVec3;
 use nffkit_formats::polygon::{newell_normal, triangulate};
-use nffkit_formats::{Scene, Shape};
+use nffkit_formats::{box_faces, Scene, Shape};
 
 /// The triangles of one material.
 #[derive(Debug, Clone, Default)]
@@ -49,11 +49,6 @@ impl Group {
     }
 }
 
-/// The six faces of a box, corner bits x = 1, y = 2, z = 4 at the max
-/// side, counter-clockwise seen from outside.
-const BOX_FACES: [[usize; 4]; 6] =
-    [[0, 4, 6, 2], [1, 3, 7, 5], [0, 1, 5, 4], [2, 6, 7, 3], [0, 2, 3, 1], [4, 5, 7, 6]];
-
 /// The scene's shapes as triangle groups, in the order their materials
 /// first appear, and what was approximated.
 pub fn groups(scene: &Scene, tessellate_at: u32) -> (Vec<Group>, Vec<String>) {
@@ -83,12 +78,8 @@ pub fn groups(scene: &Scene, tessellate_at: u32) -> (Vec<Group>, Vec<String>) {
             Shape::Polygon { vertices } => g.polygon(vertices, None),
             Shape::Patch { vertices, normals } => g.polygon(vertices, Some(normals)),
             Shape::Box { min, max } => {
-                let corner = |i: usize| {
-                    let pick = |bit: usize, lo: f64, hi: f64| if i & bit != 0 { hi } else { lo };
-                    DVec3::new(pick(1, min.x, max.x), pick(2, min.y, max.y), pick(4, min.z, max.z))
-                };
-                for face in BOX_FACES {
-                    g.polygon(&face.map(corner), None);
+                for face in box_faces(*min, *max) {
+                    g.polygon(&face, None);
                 }
             }
             Shape::Plane { points: [a, b, c] } => {

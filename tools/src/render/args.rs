@@ -117,7 +117,7 @@ pub struct RenderArgs {
     pub strict: bool,
     /// The scene language: nff, or p3f (the P3D course's). Default: from
     /// the file name (.p3f, .nff), else recognised from the content.
-    #[arg(long, value_name = "nff|p3f", value_parser = dialect)]
+    #[arg(long, value_name = "nff|p3f", value_parser = crate::cli_util::parse_dialect)]
     pub dialect: Option<Dialect>,
     /// Let a P3F scene's `env` folder lie outside the scene's folder (or be
     /// reached through a link that leads out of it). Off by default: a
@@ -558,10 +558,6 @@ fn ambient(s: &str) -> Result<Ambient, String> {
         return Ok(Ambient::Spd);
     }
     non_negative(s).map(Ambient::Value).map_err(|e| format!("{e}; expected a number or `spd`"))
-}
-
-fn dialect(s: &str) -> Result<Dialect, String> {
-    s.to_ascii_lowercase().parse().map_err(|_| format!("`{s}` is no scene language; expected nff or p3f"))
 }
 
 fn positive(s: &str) -> Result<f32, String> {

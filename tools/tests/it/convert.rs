@@ -235,6 +235,7 @@ fn obj_and_gltf_exports_read_back_through_mesh2nff_to_the_same_triangles() {
         // glTF holds single precision: a corner may round the other way.
         let off = got.iter().zip(&expected).filter(|(a, b)| a != b).count();
         let allowed = if ext == "obj" { 0 } else { expected.len() / 100 };
+        eprintln!("{ext}: {off} of {} triangles differ at 1e-3", expected.len());
         assert!(off <= allowed, "{ext}: {off} of {} triangles differ", expected.len());
         // Materials: colour x Kd, Ks and the index come back.
         let back = nff::parse(&std::fs::read(&back).unwrap(), &ParseOptions::default()).unwrap().scene;

@@ -76,8 +76,8 @@ impl Whitted<'_> {
                     spawned[kind][i] = r;
                 }
             });
-            for (k, (kind, _)) in spawned.iter().zip(any).enumerate().filter(|k| k.1 .1) {
-                self.trace_spawned(kind, k, &points, depth + 1, rays, ids, &mut color, th);
+            for (kind, (of_kind, _)) in spawned.iter().zip(any).enumerate().filter(|k| k.1 .1) {
+                self.trace_spawned(of_kind, kind, &points, depth + 1, rays, ids, &mut color, th);
             }
         }
         for (i, sp) in points.iter().enumerate() {

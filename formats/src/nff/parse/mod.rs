@@ -584,7 +584,7 @@ impl<'a> Parser<'a> {
             }
             None => {
                 let mut d = self.error_at(&t, format!("unknown entity `{}`", t.display()));
-                d.note = Some(if P3F_KEYWORDS.contains(&&*String::from_utf8_lossy(t.text)) {
+                d.note = Some(if entity_keyword(t.text).is_some_and(|k| P3F_KEYWORDS.contains(&k)) {
                     format!(
                         "`{}` is P3F, the P3D course's language: read the file as P3F (a .p3f name, \
                          or --dialect p3f)",
