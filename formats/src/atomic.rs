@@ -13,6 +13,7 @@
 //! Every sibling not yet renamed is listed in [`pending`], so that a
 //! program interrupted by a signal can remove them ([`remove_pending`]).
 
+#[cfg(unix)]
 use std::fs::Permissions;
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};

@@ -35,6 +35,7 @@ impl<V: F32s> Simd<V> {
     /// The processor must support `V`'s instruction set (checked with
     /// [`crate::simd::Isa::supported`]).
     #[inline(always)]
+    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
     pub(crate) unsafe fn new_unchecked() -> Simd<V> {
         Simd(PhantomData)
     }
@@ -134,6 +135,7 @@ pub(crate) unsafe trait F32s: Copy {
 /// The conversion every implementation shares: NaN to 0, saturation at
 /// the `i32` ends (the hardware gives `i32::MIN` for both), as Rust's `as`.
 #[inline(always)]
+#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 fn to_i32_bits_with<V: F32s>(x: V, truncate: impl Fn(V) -> V) -> V {
     const TWO_31: f32 = 2147483648.0;
     let s = Simd::of(x);

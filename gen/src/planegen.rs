@@ -1,7 +1,7 @@
 //! The checkerboard plane (P3D report §4.3): an XY-aligned board of `p 4` squares
 //! in two colours, as a whole scene or added to an existing one.
 
-use crate::cli_util::{parse_args, parse_pair, parse_triple};
+use crate::options::{parse_args, parse_pair, parse_triple};
 use anyhow::{bail, Result};
 use glam::{DVec2, DVec3};
 use nffkit_formats::{Light, Material, Primitive, Scene, Shape, SourceLine, View};
@@ -45,6 +45,11 @@ pub struct Board {
     /// Phong exponent of the squares.
     #[arg(long, default_value_t = 1.0)]
     pub shine: f64,
+    /// Turn the board about the vertical through its centre, in degrees
+    /// (counter-clockwise from above): at 0 the squares' edges run along
+    /// the view and across it, so the horizon is axis-aligned in the image.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub rotate: f64,
 }
 
 impl Default for Board {
@@ -76,6 +81,9 @@ impl Board {
                 bail!("{name} must be a finite, non-negative number (got {v})");
             }
         }
+        if !self.rotate.is_finite() {
+            bail!("--rotate must be a finite number of degrees (got {})", self.rotate);
+        }
         if !self.z.is_finite() {
             bail!("--z must be a finite number (got {})", self.z);
         }
@@ -105,6 +113,7 @@ impl Board {
         let (dx, dy) = (self.sx / self.nx as f64, self.sy / self.ny as f64);
         let x0 = self.center.x - self.sx / 2.0;
         let y0 = self.center.y - self.sy / 2.0;
+        let turn = self.turn();
         (0..self.ny).flat_map(move |j| {
             (0..self.nx).filter(move |i| (i + j) % 2 == colour).map(move |i| {
                 // Corners from the index, not by accumulation: shared edges
@@ -114,8 +123,23 @@ impl Board {
                 let ya = y0 + j as f64 * dy;
                 let yb = y0 + (j + 1) as f64 * dy;
                 let z = self.z;
-                [DVec3::new(xa, ya, z), DVec3::new(xb, ya, z), DVec3::new(xb, yb, z), DVec3::new(xa, yb, z)]
+                [(xa, ya), (xb, ya), (xb, yb), (xa, yb)].map(|(x, y)| {
+                    let p = turn.map_or(DVec2::new(x, y), |(c, s)| {
+                        let d = DVec2::new(x, y) - self.center;
+                        self.center + DVec2::new(c * d.x - s * d.y, s * d.x + c * d.y)
+                    });
+                    DVec3::new(p.x, p.y, z)
+                })
             })
+        })
+    }
+
+    /// The rotation's cosine and sine; `None` when there is none, so an
+    /// unturned board's corners are computed exactly as written.
+    fn turn(&self) -> Option<(f64, f64)> {
+        (self.rotate != 0.0).then(|| {
+            let (s, c) = self.rotate.to_radians().sin_cos();
+            (c, s)
         })
     }
 
@@ -229,6 +253,23 @@ mod tests {
     }
 
     #[test]
+    fn a_turned_board_keeps_its_centre_and_area() {
+        let b = Board { nx: 2, ny: 2, sx: 2.0, sy: 2.0, rotate: 90.0, ..Default::default() };
+        let first = b.squares(0).next().unwrap();
+        // The (-x, -y) square turned a quarter counter-clockwise is the
+        // (+x, -y) one.
+        for (v, want) in first.iter().zip([(1.0, -1.0), (1.0, 0.0), (0.0, 0.0), (0.0, -1.0)]) {
+            assert!((v.x - want.0).abs() < 1e-12 && (v.y - want.1).abs() < 1e-12, "{v}");
+        }
+        let turned = Board { rotate: 30.0, ..Default::default() };
+        let area: f64 = (0..2)
+            .flat_map(|c| turned.squares(c).collect::<Vec<_>>())
+            .map(|q| (q[1] - q[0]).cross(q[2] - q[1]).z)
+            .sum();
+        assert!((area - 64.0).abs() < 1e-9);
+    }
+
+    #[test]
     fn written_scene_parses_without_diagnostics() {
         let text = nff::write(&Board::default().scene(), Vec::new()).unwrap();
         let parsed = nff::parse(&text, &ParseOptions::default()).unwrap();
@@ -243,6 +284,7 @@ mod tests {
         assert!(Board { nx: 0, ..Default::default() }.validate().is_err());
         assert!(Board { sx: -1.0, ..Default::default() }.validate().is_err());
         assert!(Board { c1: DVec3::new(1.5, 0.0, 0.0), ..Default::default() }.validate().is_err());
+        assert!(Board { rotate: f64::NAN, ..Default::default() }.validate().is_err());
         assert!(Board::default().validate().is_ok());
     }
 }

@@ -1,7 +1,7 @@
 //! The scene `render` draws when given no file: a level-3 sphereflake over a
 //! checkerboard, made by the project's own generators.
 
-use crate::gen::sphereflake::{Floor, Sphereflake};
+use crate::sphereflake::{Floor, Sphereflake};
 use nffkit_formats::Scene;
 
 /// The built-in default scene.

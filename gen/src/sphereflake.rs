@@ -9,8 +9,8 @@
 //! equator 15°+120k, equator 75°+120k). A child's frame is the minimal
 //! rotation taking +Z to its direction. Output is depth-first pre-order.
 
-use crate::cli_util::{parse_args, parse_resolution, parse_squares};
-use crate::gen::planegen::Board;
+use crate::options::{parse_args, parse_resolution, parse_squares};
+use crate::planegen::Board;
 use anyhow::{bail, Result};
 use glam::{DMat3, DVec2, DVec3};
 use nffkit_formats::nff::NffWriter;
@@ -222,6 +222,7 @@ impl Sphereflake {
                     kd: 0.8,
                     ks: 0.0,
                     shine: 1.0,
+                    rotate: 0.0,
                 };
                 board.add_to(&mut scene);
             }
