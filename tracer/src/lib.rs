@@ -31,6 +31,7 @@ pub mod fuzzing;
 pub mod light;
 pub mod prepare;
 pub mod probe;
+pub mod progressive;
 pub mod render;
 pub mod sampling;
 pub mod simd;

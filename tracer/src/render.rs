@@ -220,7 +220,7 @@ fn render_with<I: Intersector>(
 /// sample `ids[i]`) into `out`: as one packet when packets are on, else one
 /// by one. The colours are the same either way.
 #[inline]
-fn trace_eye<I: Intersector>(
+pub(crate) fn trace_eye<I: Intersector>(
     shader: &Whitted,
     settings: &RenderSettings,
     rays: &[(Ray, f32, f32)],
@@ -279,15 +279,8 @@ fn pixel<I: Intersector>(
         });
         return color[0];
     }
+    let samples = PixelSamples::new(camera, sampler, filter, px, py);
     let (mut sum, mut weights) = (Vec3A::ZERO, 0.0);
-    // The pixel's patterns once; a pinhole camera ignores the lens sample.
-    let position = sampler.pattern(px, py, 0);
-    let lens = (camera.aperture > 0.0).then(|| sampler.pattern(px, py, 1));
-    let sample = |index: u32| {
-        let (offset, weight) = filter.sample(sampler.sample_of(position, index));
-        let lens = lens.map_or(Vec2::ZERO, |p| concentric_disk(sampler.sample_of(p, index)));
-        (camera.ray(px as f32 + 0.5 + offset.x, py as f32 + 0.5 + offset.y, lens), weight)
-    };
     // Up to LANES samples at a time; the sum is taken in sample order.
     let mut rays = [(Ray { o: Vec3A::ZERO, d: Vec3A::Z }, 0.0, 1.0); LANES];
     let mut ids = [SampleId { px, py, index: 0 }; LANES];
@@ -297,7 +290,7 @@ fn pixel<I: Intersector>(
         let n = (sampler.spp - first).min(LANES as u32) as usize;
         for i in 0..n {
             let index = first + i as u32;
-            let ((ray, t_min), weight) = sample(index);
+            let ((ray, t_min), weight) = samples.ray(index);
             (rays[i], w[i]) = ((ray, t_min, 1.0), weight);
             ids[i].index = index;
         }
@@ -307,10 +300,54 @@ fn pixel<I: Intersector>(
             weights += w[i];
         }
     }
+    resolve(sum, weights, sampler.spp)
+}
+
+/// The eye rays of one pixel's samples: its patterns computed once (a
+/// pinhole camera ignores the lens sample).
+pub(crate) struct PixelSamples<'a> {
+    camera: &'a Camera,
+    sampler: &'a Sampler,
+    filter: &'a Filter,
+    position: u32,
+    lens: Option<u32>,
+    px: u32,
+    py: u32,
+}
+
+impl<'a> PixelSamples<'a> {
+    #[inline]
+    pub(crate) fn new(
+        camera: &'a Camera,
+        sampler: &'a Sampler,
+        filter: &'a Filter,
+        px: u32,
+        py: u32,
+    ) -> Self {
+        let position = sampler.pattern(px, py, 0);
+        let lens = (camera.aperture > 0.0).then(|| sampler.pattern(px, py, 1));
+        PixelSamples { camera, sampler, filter, position, lens, px, py }
+    }
+
+    /// Sample `index`'s eye ray (with its `t_min`) and filter weight.
+    #[inline]
+    pub(crate) fn ray(&self, index: u32) -> ((Ray, f32), f32) {
+        let (offset, weight) = self.filter.sample(self.sampler.sample_of(self.position, index));
+        let lens = self.lens.map_or(Vec2::ZERO, |p| concentric_disk(self.sampler.sample_of(p, index)));
+        let (x, y) = (self.px as f32 + 0.5 + offset.x, self.py as f32 + 0.5 + offset.y);
+        (self.camera.ray(x, y, lens), weight)
+    }
+}
+
+/// A pixel's colour from its samples' filter-weighted sum: divided by the
+/// weights, or by the sample count where negative lobes (Mitchell) leave
+/// too little weight to divide by.
+#[inline]
+pub(crate) fn resolve(sum: Vec3A, weights: f32, spp: u32) -> Vec3A {
     if weights > 0.5 {
         sum / weights
     } else {
-        sum / sampler.spp as f32
+        sum / spp as f32
     }
 }
 
