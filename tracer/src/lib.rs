@@ -36,6 +36,7 @@ pub mod render;
 pub mod sampling;
 pub mod simd;
 pub mod stats;
+pub mod stopwatch;
 
 mod aabb;
 #[cfg(feature = "clap")]

@@ -14,10 +14,10 @@ use crate::sampling::{concentric_disk, Sampler, SamplerKind};
 use crate::shadow_cache::ShadowCache;
 use crate::simd::lanes::LANES;
 use crate::stats::Counters;
+use crate::stopwatch::Stopwatch;
 use glam::{Vec2, Vec3A};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::time::Instant;
 
 /// Tile side in pixels.
 pub const TILE: u32 = 16;
@@ -157,7 +157,7 @@ fn render_with<I: Intersector>(
     settings: &RenderSettings,
     progress: Progress,
 ) -> RenderOutput {
-    let t0 = Instant::now();
+    let t0 = Stopwatch::start();
     let (w, h) = scene.camera.resolution();
     let shader = Whitted { scene, sampler: &settings.sampler, settings: settings.shade };
     let filter = Filter::new(settings.filter);
@@ -213,7 +213,7 @@ fn render_with<I: Intersector>(
             seconds: 0.0,
         }
     };
-    RenderOutput { seconds: t0.elapsed().as_secs_f64(), ..out }
+    RenderOutput { seconds: t0.seconds(), ..out }
 }
 
 /// Radiance along up to [`LANES`] eye rays (`(ray, t_min, weight)` of

@@ -20,8 +20,8 @@ use crate::aabb::{Aabb, ENTRY_SLACK};
 use crate::geometry::{Geometry, Hit};
 use crate::math::RayQuery;
 use crate::stats::Counters;
+use crate::stopwatch::Stopwatch;
 use glam::Vec3A;
-use std::time::Instant;
 
 /// Cap on the number of cells, whatever M asks for.
 const MAX_CELLS: u64 = 1 << 26;
@@ -109,7 +109,7 @@ impl Grid {
     /// Build with density multiplier `m`: formula (1)'s cells, or fewer
     /// when its references would not fit in [`MAX_ENTRIES`].
     pub(crate) fn build(geom: &Geometry, m: f32, mailbox: bool) -> Grid {
-        let t0 = Instant::now();
+        let t0 = Stopwatch::start();
         let n = geom.bounded_len();
         let boxes: Vec<Aabb> = (0..n as u32).map(|id| geom.bounds(id)).collect();
         let bounds = boxes.iter().fold(Aabb::EMPTY, |a, b| a.union(*b));
@@ -130,7 +130,7 @@ impl Grid {
             ));
         }
         grid.fill(&boxes);
-        grid.build_seconds = t0.elapsed().as_secs_f64();
+        grid.build_seconds = t0.seconds();
         grid
     }
 

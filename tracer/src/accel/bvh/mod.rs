@@ -13,8 +13,8 @@ use crate::geometry::{Geometry, Hit};
 use crate::math::RayQuery;
 use crate::packet::{LaneHits, RayPacket};
 use crate::simd::lanes::Mask;
+use crate::stopwatch::Stopwatch;
 use packet::PacketEntry;
-use std::time::Instant;
 use wide::{Entry, Node4, Ray4, STACK};
 
 /// Per-thread traversal stacks, allocated once: one for single rays, one
@@ -38,9 +38,9 @@ pub(crate) struct Bvh {
 impl Bvh {
     /// Build over every primitive of `geom`.
     pub fn build(geom: &Geometry) -> Bvh {
-        let t0 = Instant::now();
+        let t0 = Stopwatch::start();
         let (wide, prims) = Node4::build(geom);
-        Bvh { wide, prims, build_seconds: t0.elapsed().as_secs_f64() }
+        Bvh { wide, prims, build_seconds: t0.seconds() }
     }
 
     /// Size and build time.
