@@ -6,7 +6,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use nffkit_formats::{atomic, image_io};
 use nffkit_tools::cli_util;
 use nffkit_tools::demo::page::{self, FiguresSection};
-use nffkit_tools::demo::{contact_sheet, figures, run, table, DemoConfig};
+use nffkit_tools::demo::{contact_sheet, figures, playground, run, serve, table, DemoConfig};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -23,6 +23,12 @@ use std::process::ExitCode;
 /// (`table1 --quick`, which needs the project's scenes/spd). Also written:
 /// contact-sheet.png, errors.md (printed too) and convergence.svg. Renders
 /// run in parallel on every core.
+///
+/// With --playground it also writes OUT/playground/: nffkit's tracer as
+/// WebAssembly behind a page where a student turns the knobs (scene,
+/// sampler, count, filter, light size, aperture) and watches the image
+/// refine. Browsers run it from a web server, not from disk: `aademo --out
+/// OUT --serve` serves the folder on 127.0.0.1.
 #[derive(Parser, Debug)]
 #[command(name = "aademo", version)]
 struct Args {
@@ -47,6 +53,21 @@ struct Args {
     /// Worker threads (default: all cores). The page does not depend on it.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     threads: Option<u32>,
+    /// Also write the playground (OUT/playground/) with the tracer's
+    /// WebAssembly module, built by `cargo playground`.
+    #[arg(long)]
+    playground: bool,
+    /// The playground's WebAssembly module (default: where `cargo
+    /// playground` leaves it, beside this program's target folder).
+    #[arg(long, value_name = "FILE", requires = "playground")]
+    wasm: Option<PathBuf>,
+    /// Render nothing: serve the folder OUT on http://127.0.0.1:PORT/ until
+    /// stopped (Ctrl-C).
+    #[arg(long, conflicts_with_all = ["playground", "figures"])]
+    serve: bool,
+    /// The port for --serve (0: any free port, printed).
+    #[arg(long, default_value_t = 8000, requires = "serve")]
+    port: u16,
     /// Print nothing but errors and the error table.
     #[arg(short, long)]
     quiet: bool,
@@ -71,6 +92,18 @@ fn main_inner(a: &Args) -> Result<()> {
         anyhow::bail!("--spp takes counts from 1 to 65536");
     }
     nffkit_tools::outputs::Outputs::new().folder("--out", &a.out)?;
+    let wasm = match a.playground {
+        true => {
+            let wasm = a
+                .wasm
+                .clone()
+                .or_else(playground::built_wasm)
+                .context("cannot find this program's folder")?;
+            playground::check_wasm(&wasm)?;
+            Some(wasm)
+        }
+        false => None,
+    };
     let cfg = DemoConfig {
         size: a.size,
         spps: a.spp.clone(),
@@ -127,13 +160,43 @@ fn main_inner(a: &Args) -> Result<()> {
     let t = table(&result, &cfg);
     atomic::write_bytes(&a.out.join("errors.md"), t.as_bytes())?;
     cli_util::print(&t)?;
+    if let Some(wasm) = wasm {
+        let page = playground::write(&a.out, &wasm)?;
+        if !a.quiet {
+            nffkit_tools::eprintln_safe!(
+                "wrote {}; to open it: aademo --out {} --serve",
+                page.display(),
+                a.out.display()
+            );
+        }
+    }
     if !a.quiet {
         nffkit_tools::eprintln_safe!("wrote {} in {:.1} s", index.display(), t0.elapsed().as_secs_f64());
     }
     Ok(())
 }
 
+/// `--serve`: the folder on 127.0.0.1 until stopped.
+fn serve(a: &Args) -> Result<()> {
+    if !a.out.join("index.html").is_file() && !a.out.join("playground/index.html").is_file() {
+        anyhow::bail!(
+            "nothing to serve in {0}: make it first with `aademo --out {0} --playground`",
+            a.out.display()
+        );
+    }
+    let listener = serve::bind(a.port)?;
+    let port = listener.local_addr()?.port();
+    let page = if a.out.join("playground/index.html").is_file() { "playground/" } else { "" };
+    cli_util::print(format!(
+        "serving {} on http://127.0.0.1:{port}/{page} (Ctrl-C to stop)\n",
+        a.out.display()
+    ))?;
+    serve::serve(listener, &a.out)
+}
+
 fn main() -> ExitCode {
     let args = Args::parse();
-    cli_util::run_main("aademo", || main_inner(&args).map(|_| ExitCode::SUCCESS))
+    cli_util::run_main("aademo", || {
+        if args.serve { serve(&args) } else { main_inner(&args) }.map(|_| ExitCode::SUCCESS)
+    })
 }

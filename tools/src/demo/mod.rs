@@ -12,6 +12,8 @@
 pub mod figures;
 pub mod page;
 pub mod patterns;
+pub mod playground;
+pub mod serve;
 pub mod text;
 
 use crate::gen::planegen::Board;
