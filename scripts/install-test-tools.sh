@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# The real programs the tests run, installed where missing: GNU parallel
-# and POV-Ray (Debian), openjd-cli, kubernetes-validate and Mitsuba 3 (PyPI, in a
+# The real programs the tests run, installed where missing: GNU parallel,
+# POV-Ray and Chromium (Debian), Rust's wasm32-unknown-unknown target (rustup, for
+# the browser playground), openjd-cli, kubernetes-validate and Mitsuba 3 (PyPI, in a
 # virtual environment under target/test-tools, where the tests look), and
-# the Khronos glTF-Validator (npm, under target/test-tools/npm; Node from
-# Debian where there is none). The
+# the Khronos glTF-Validator and puppeteer-core (npm, under
+# target/test-tools/npm; Node from Debian where there is none). The
 # README's test command runs this, then `cargo test` with
 # NFFKIT_TEST_TOOLS=required, so that a test needing one of them fails
 # instead of skipping.
@@ -23,11 +24,16 @@ debian() { # COMMAND PACKAGE...
 }
 debian parallel parallel
 debian povray povray
+debian chromium chromium
+if command -v rustup >/dev/null && ! rustup target list --installed | grep -qx wasm32-unknown-unknown; then
+  rustup target add wasm32-unknown-unknown
+fi
 debian node nodejs npm
 debian npm npm
-if [ ! -f target/test-tools/npm/node_modules/gltf-validator/package.json ]; then
+npm_modules=target/test-tools/npm/node_modules
+if [ ! -f $npm_modules/gltf-validator/package.json ] || [ ! -f $npm_modules/puppeteer-core/package.json ]; then
   mkdir -p target/test-tools/npm
-  npm install --prefix target/test-tools/npm --no-audit --no-fund --silent gltf-validator
+  npm install --prefix target/test-tools/npm --no-audit --no-fund --silent gltf-validator puppeteer-core
 fi
 venv=target/test-tools
 if [ ! -x "$venv/bin/openjd" ] || [ ! -x "$venv/bin/kubernetes-validate" ] ||

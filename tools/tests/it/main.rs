@@ -14,4 +14,5 @@ mod generators;
 mod mesh2nff;
 mod mesh_looks;
 mod p3f;
+mod playground;
 mod spd;
