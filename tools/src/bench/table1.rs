@@ -93,6 +93,13 @@ fn cell(t: &Timing) -> String {
     }
 }
 
+/// A ray rate with three significant digits (brute force on a big scene
+/// runs at thousandths of a million rays a second).
+fn rate(mrays: f64) -> String {
+    let digits = if mrays > 0.0 { (2 - mrays.log10().floor() as i32).clamp(0, 6) } else { 2 };
+    format!("{mrays:.0$}", digits as usize)
+}
+
 /// `--quick`: image size and brute-force time cap (seconds) for a table made
 /// in well under a minute, as the demo page uses.
 pub const QUICK: (u32, f64) = (128, 1.0);
@@ -153,7 +160,7 @@ pub fn table(size: u32, cap: f64, jobs: usize, progress: &(dyn Fn(&str) + Sync))
         let times: Vec<String> = t.iter().map(cell).collect();
         let speedups: Vec<String> =
             faster.iter().map(|&k| format!("{:.1}x", t[brute].seconds / t[k].seconds)).collect();
-        let rates: Vec<String> = t.iter().map(|c| format!("{:.2}", c.mrays)).collect();
+        let rates: Vec<String> = t.iter().map(|c| rate(c.mrays)).collect();
         let _ = writeln!(
             out,
             "| {} | {} | {} | {} | {} | {} / {} |",

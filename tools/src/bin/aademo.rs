@@ -17,10 +17,12 @@ use std::process::ExitCode;
 /// counts and with every filter, and writes OUT/index.html: each pattern's
 /// samples in the unit square with its strata (16 and 64 samples), the
 /// render, 8x magnified crops of the horizon with RMSE and FLIP against a
-/// high-sample reference, a filter row with each filter's profile, the
-/// error table and a log-log convergence plot with fitted slopes. With
-/// --figures it also rebuilds the P3D report's figures 4-8 and its Table 1
-/// (`table1 --quick`, which needs the project's scenes/spd). Also written:
+/// high-sample reference, the same board turned (where a regular grid
+/// loses), a filter row with each filter's profile measured against a
+/// reference through the same filter, the error table and log-log
+/// convergence plots with fitted slopes, each section saying what to look
+/// for. With --figures it also rebuilds the P3D report's figures 4-8 and its
+/// Table 1 (`table1`, which needs the project's scenes/spd). Also written:
 /// contact-sheet.png, errors.md (printed too) and convergence.svg. Renders
 /// run in parallel on every core.
 ///
@@ -36,7 +38,7 @@ struct Args {
     #[arg(short, long, default_value = "aademo")]
     out: PathBuf,
     /// Image size in pixels (square).
-    #[arg(long, default_value_t = 128, value_parser = clap::value_parser!(u32).range(16..=1024))]
+    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(16..=1024))]
     size: u32,
     /// Sample counts, comma-separated.
     #[arg(long, default_value = "1,4,16,64", value_delimiter = ',')]
@@ -47,9 +49,20 @@ struct Args {
     /// Seed of the random patterns.
     #[arg(long, default_value_t = 1)]
     seed: u32,
+    /// The turn of the second board, in degrees (see the page's section on
+    /// why regular wins).
+    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
+    rotation: f64,
+    /// Squares per side of the board.
+    #[arg(long, default_value_t = 32, value_parser = clap::value_parser!(u32).range(1..=512))]
+    squares: u32,
     /// Also rebuild the P3D report's figures 4-8 and Table 1 on the page.
     #[arg(long)]
     figures: bool,
+    /// Image side of Table 1 with --figures (the report's is 512; brute
+    /// force is estimated from every 64th row past 2 s a cell).
+    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(16..=4096), requires = "figures")]
+    table1_size: u32,
     /// Worker threads (default: all cores). The page does not depend on it.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     threads: Option<u32>,
@@ -109,8 +122,13 @@ fn main_inner(a: &Args) -> Result<()> {
         spps: a.spp.clone(),
         reference_spp: a.reference_spp,
         seed: a.seed,
+        rotation: a.rotation,
+        squares: a.squares,
         ..Default::default()
     };
+    if !a.rotation.is_finite() {
+        anyhow::bail!("--rotation must be a finite number of degrees");
+    }
     let pool = rayon::ThreadPoolBuilder::new().num_threads(a.threads.unwrap_or(0) as usize).build()?;
     let t0 = std::time::Instant::now();
     let (result, figures) = pool.install(|| -> Result<_> {
@@ -140,13 +158,12 @@ fn main_inner(a: &Args) -> Result<()> {
                     b.finish_and_clear();
                 }
                 let quiet = a.quiet;
-                let (size, cap) = nffkit_tools::bench::table1::QUICK;
-                let table1 = nffkit_tools::bench::table1::table(size, cap, 1, &|what| {
+                let table1 = nffkit_tools::bench::table1::table(a.table1_size, 2.0, 1, &|what| {
                     if !quiet {
                         nffkit_tools::eprintln_safe!("table1: timing {what}");
                     }
                 })?;
-                Some(FiguresSection { images, table1 })
+                Some(FiguresSection { images, table1, table1_size: a.table1_size })
             }
         };
         Ok((result, figures))

@@ -50,12 +50,16 @@ pub struct DemoConfig {
     pub squares: u32,
     /// Seed of the random patterns.
     pub seed: u32,
+    /// The second board's turn in degrees: its squares' edges cross the
+    /// pixel grid at an angle, where a regular grid of samples loses its
+    /// advantage on the axis-aligned horizon.
+    pub rotation: f64,
 }
 
 impl Default for DemoConfig {
     fn default() -> Self {
         DemoConfig {
-            size: 128,
+            size: 256,
             spps: vec![1, 4, 16, 64],
             samplers: SamplerKind::ALL.to_vec(),
             filters: FilterKind::ALL.to_vec(),
@@ -64,6 +68,7 @@ impl Default for DemoConfig {
             reference_spp: 1024,
             squares: 32,
             seed: 1,
+            rotation: 10.0,
         }
     }
 }
@@ -98,12 +103,19 @@ pub struct DemoTile {
 
 /// Everything the demo produced.
 pub struct DemoResult {
-    /// The reference image.
+    /// The reference image (box filter).
     pub reference: Film,
     /// Tiles, sampler-major, one per sample count, all with the box filter.
     pub tiles: Vec<DemoTile>,
-    /// One tile per filter, on the filter row's pattern and count.
+    /// One tile per filter, on the filter row's pattern and count, each
+    /// measured against a reference through the same filter.
     pub filter_tiles: Vec<DemoTile>,
+    /// The references of the filter row, one per filter.
+    pub filter_references: Vec<Film>,
+    /// The turned board's reference (box filter).
+    pub rotated_reference: Film,
+    /// The turned board's tiles, as `tiles`.
+    pub rotated_tiles: Vec<DemoTile>,
 }
 
 impl DemoResult {
@@ -113,78 +125,102 @@ impl DemoResult {
     }
 }
 
-/// The board the demo renders, prepared at the demo's size.
-pub fn board(cfg: &DemoConfig) -> Result<RenderScene> {
-    let scene = Board { nx: cfg.squares, ny: cfg.squares, ..Default::default() }.scene();
+/// The board the demo renders, turned `rotate` degrees, prepared at the
+/// demo's size.
+pub fn board(cfg: &DemoConfig, rotate: f64) -> Result<RenderScene> {
+    let scene = Board { nx: cfg.squares, ny: cfg.squares, rotate, ..Default::default() }.scene();
     let opts = PrepareOptions { width: Some(cfg.size), height: Some(cfg.size), ..Default::default() };
     Ok(prepare(&scene, &opts)?)
 }
 
+/// One render of the demo: which board (0 upright, 1 turned), pattern,
+/// count and filter.
+type Job = (usize, SamplerKind, u32, FilterKind);
+
 /// Render every tile, in parallel; `tick` is called after each render with
 /// (done, total).
 pub fn run(cfg: &DemoConfig, tick: &(dyn Fn(usize, usize) + Sync)) -> Result<DemoResult> {
-    let prepared = board(cfg)?;
-    let shoot = |kind: SamplerKind, spp: u32, filter: FilterKind| {
+    let boards = [board(cfg, 0.0)?, board(cfg, cfg.rotation)?];
+    let shoot = |&(b, kind, spp, filter): &Job| {
         let settings = RenderSettings {
             sampler: Sampler::new(kind, spp, cfg.seed).0,
             centre_single_sample: false,
             filter,
             ..Default::default()
         };
-        render(&prepared, &settings, &|_, _| {}).film
+        render(&boards[b], &settings, &|_, _| {}).film
     };
-    // Job 0 is the reference; then samplers x counts; then filters.
-    let mut jobs = vec![(SamplerKind::Sobol, cfg.reference_spp, FilterKind::Box)];
-    for &kind in &cfg.samplers {
-        jobs.extend(cfg.spps.iter().map(|&spp| (kind, spp, FilterKind::Box)));
+    // References first (Sobol, one per board with the box filter, then one
+    // per filter of the filter row), then each board's samplers x counts,
+    // then the filter row.
+    let reference = |b, filter| (b, SamplerKind::Sobol, cfg.reference_spp, filter);
+    let mut jobs: Vec<Job> = vec![reference(0, FilterKind::Box), reference(1, FilterKind::Box)];
+    jobs.extend(cfg.filters.iter().map(|&f| reference(0, f)));
+    let references = jobs.len();
+    for b in 0..2 {
+        for &kind in &cfg.samplers {
+            jobs.extend(cfg.spps.iter().map(|&spp| (b, kind, spp, FilterKind::Box)));
+        }
     }
-    jobs.extend(cfg.filters.iter().map(|&f| (cfg.filter_sampler, cfg.filter_spp, f)));
+    jobs.extend(cfg.filters.iter().map(|&f| (0, cfg.filter_sampler, cfg.filter_spp, f)));
     let done = std::sync::atomic::AtomicUsize::new(0);
     let mut films: Vec<Film> = jobs
         .par_iter()
-        .map(|&(kind, spp, filter)| {
-            let film = shoot(kind, spp, filter);
+        .map(|job| {
+            let film = shoot(job);
             tick(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1, jobs.len());
             film
         })
         .collect();
-    let reference = films.remove(0);
-    let reference_image = reference.to_image();
-    let tiles: Vec<DemoTile> = jobs[1..]
+    let rest = films.split_off(references);
+    let images: Vec<RgbImage> = films.iter().map(Film::to_image).collect();
+    let filter_index = |f: FilterKind| 2 + cfg.filters.iter().position(|&g| g == f).unwrap_or(0);
+    let mut tiles: Vec<DemoTile> = jobs[references..]
         .par_iter()
-        .zip(films)
-        .map(|(&(kind, spp, filter), film)| {
+        .zip(rest)
+        .map(|(&(b, kind, spp, filter), film)| {
             let image = film.to_image();
+            // Each tile against its own board's reference through its filter.
+            let reference = match (b, filter) {
+                (1, _) => &images[1],
+                (_, FilterKind::Box) => &images[0],
+                (_, f) => &images[filter_index(f)],
+            };
             DemoTile {
                 kind,
                 filter,
                 spp: Sampler::new(kind, spp, cfg.seed).0.spp,
-                rmse: metrics::rmse(&image, &reference_image),
-                ssim: metrics::mean_ssim(&image, &reference_image),
-                flip: metrics::flip(&reference_image, &image).mean,
+                rmse: metrics::rmse(&image, reference),
+                ssim: metrics::mean_ssim(&image, reference),
+                flip: metrics::flip(reference, &image).mean,
                 film,
             }
         })
         .collect();
-    let split = cfg.samplers.len() * cfg.spps.len();
-    let mut tiles = tiles;
-    let filter_tiles = tiles.split_off(split);
-    Ok(DemoResult { reference, tiles, filter_tiles })
+    let per_board = cfg.samplers.len() * cfg.spps.len();
+    let filter_tiles = tiles.split_off(2 * per_board);
+    let rotated_tiles = tiles.split_off(per_board);
+    let filter_references = films.split_off(2);
+    let [reference, rotated_reference]: [Film; 2] =
+        films.try_into().map_err(|_| anyhow::anyhow!("the demo's two references were not rendered"))?;
+    Ok(DemoResult { reference, tiles, filter_tiles, filter_references, rotated_reference, rotated_tiles })
 }
 
 /// Least-squares slope of log(RMSE) against log(spp): the convergence rate
-/// (−1/2 for independent random samples, steeper for stratified patterns).
-pub fn fitted_slope<'a>(tiles: impl Iterator<Item = &'a DemoTile>) -> f64 {
+/// (−1/2 for independent random samples, steeper for stratified patterns);
+/// `None` with fewer than two sample counts.
+pub fn fitted_slope<'a>(tiles: impl Iterator<Item = &'a DemoTile>) -> Option<f64> {
     let pts: Vec<(f64, f64)> = tiles.map(|t| ((t.spp as f64).ln(), t.rmse.max(1e-9).ln())).collect();
     let n = pts.len() as f64;
     let (mx, my) = pts.iter().fold((0.0, 0.0), |(a, b), p| (a + p.0 / n, b + p.1 / n));
     let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
     let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    if sxx == 0.0 {
-        0.0
-    } else {
-        sxy / sxx
-    }
+    (sxx > 0.0).then(|| sxy / sxx)
+}
+
+/// A fitted slope for the page: two decimals, or a dash.
+pub fn slope_text(slope: Option<f64>) -> String {
+    slope.map_or("—".into(), |s| format!("{s:.2}"))
 }
 
 /// `film`'s pixels in the window `(x0, y0, w, h)`, each repeated `k` x `k`
@@ -239,40 +275,62 @@ pub fn table(result: &DemoResult, cfg: &DemoConfig) -> String {
     out
 }
 
-/// The convergence plot: RMSE against spp, log-log, one line per sampler
-/// with its fitted slope in the legend, and dashed reference slopes −1/2
-/// (independent random samples) and −1 from the worst 1-spp error.
+/// The convergence plot of the upright board (see [`convergence_plot`]).
 pub fn convergence_svg(result: &DemoResult, cfg: &DemoConfig) -> String {
+    let title = format!(
+        "RMSE against a {}-spp reference (checkerboard, {}x{}), log-log",
+        cfg.reference_spp, cfg.size, cfg.size
+    );
+    convergence_plot(&result.tiles, cfg, &title)
+}
+
+/// Line styles of the plot, one per sampler: colour, dash pattern, width.
+/// Multi-jittered, the report's pattern, is drawn widest; the other
+/// stratified patterns, which lie close to it, differ in dashes too.
+fn line_style(kind: SamplerKind, k: usize) -> (&'static str, &'static str, f64) {
     const COLORS: [&str; 8] =
         ["#e41a1c", "#377eb8", "#4daf4a", "#984ea3", "#ff7f00", "#a65628", "#f781bf", "#333333"];
-    let (w, h, m, legend) = (720.0, 440.0, 60.0, 200.0);
-    let errs: Vec<f64> = result.tiles.iter().map(|t| t.rmse.max(1e-6)).collect();
+    const DASHES: [&str; 4] = ["none", "8 4", "2 3", "10 3 2 3"];
+    match kind {
+        SamplerKind::MultiJittered => ("#000000", "none", 4.0),
+        _ => (COLORS[k % COLORS.len()], DASHES[k % DASHES.len()], 2.0),
+    }
+}
+
+/// RMSE against spp, log-log, one line per sampler (`tiles` sampler-major,
+/// one per count), labelled at its right end with its name and fitted
+/// slope, and dashed reference slopes −1/2 (independent random samples)
+/// and −1 from the worst 1-spp error.
+pub fn convergence_plot(tiles: &[DemoTile], cfg: &DemoConfig, title: &str) -> String {
+    let (w, h, m, labels) = (960.0, 560.0, 64.0, 230.0);
+    let errs: Vec<f64> = tiles.iter().map(|t| t.rmse.max(1e-6)).collect();
     let (emin, emax) = errs.iter().fold((f64::MAX, f64::MIN), |(a, b), &e| (a.min(e), b.max(e)));
     let (lemin, lemax) = (emin.log10().floor(), emax.log10().ceil().max(emin.log10().floor() + 1.0));
-    let spps: Vec<f64> = result.tiles.iter().map(|t| t.spp as f64).collect();
+    let spps: Vec<f64> = tiles.iter().map(|t| t.spp as f64).collect();
     let (smin, smax) = spps.iter().fold((f64::MAX, f64::MIN), |(a, b), &e| (a.min(e), b.max(e)));
     let (lsmin, lsmax) = (smin.log2(), smax.log2().max(smin.log2() + 1.0));
-    let x1 = w - m - legend;
+    let x1 = w - m - labels;
     let px = |spp: f64| m + (spp.log2() - lsmin) / (lsmax - lsmin) * (x1 - m);
     let py = |e: f64| h - m - (e.max(1e-6).log10() - lemin) / (lemax - lemin) * (h - 2.0 * m);
     let mut s = format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" font-family=\"sans-serif\" font-size=\"12\">\n\
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" font-family=\"sans-serif\" font-size=\"14\">\n\
          <rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n\
-         <text x=\"{}\" y=\"20\" text-anchor=\"middle\" font-size=\"14\">RMSE against a {}-spp reference (checkerboard, {}x{}), log-log</text>\n",
-        w / 2.0,
-        cfg.reference_spp,
-        cfg.size,
-        cfg.size
+         <text x=\"{}\" y=\"24\" text-anchor=\"middle\" font-size=\"16\">{title}</text>\n",
+        w / 2.0
     );
     let _ = writeln!(s, "<line x1=\"{m}\" y1=\"{}\" x2=\"{x1}\" y2=\"{}\" stroke=\"black\"/>", h - m, h - m);
     let _ = writeln!(s, "<line x1=\"{m}\" y1=\"{m}\" x2=\"{m}\" y2=\"{}\" stroke=\"black\"/>", h - m);
-    for &spp in &cfg.spps {
+    let mut counts: Vec<u32> = tiles.iter().map(|t| t.spp).collect();
+    counts.sort_unstable();
+    counts.dedup();
+    for spp in counts {
         let x = px(spp as f64);
-        let _ = writeln!(s, "<text x=\"{x}\" y=\"{}\" text-anchor=\"middle\">{spp}</text>", h - m + 16.0);
+        let _ = writeln!(s, "<text x=\"{x}\" y=\"{}\" text-anchor=\"middle\">{spp}</text>", h - m + 20.0);
+        let _ = writeln!(s, "<line x1=\"{x}\" y1=\"{m}\" x2=\"{x}\" y2=\"{}\" stroke=\"#eee\"/>", h - m);
     }
     let _ = writeln!(
         s,
-        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">samples per pixel (log scale)</text>",
+        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">samples per pixel taken (log scale)</text>",
         (m + x1) / 2.0,
         h - 18.0
     );
@@ -284,7 +342,7 @@ pub fn convergence_svg(result: &DemoResult, cfg: &DemoConfig) -> String {
         e += 1.0;
     }
     // Reference slopes from the largest 1-spp error, clipped to the plot.
-    let e0 = result.tiles.iter().filter(|t| t.spp as f64 == smin).map(|t| t.rmse).fold(emax, f64::max);
+    let e0 = tiles.iter().filter(|t| t.spp as f64 == smin).map(|t| t.rmse).fold(emax, f64::max);
     for (slope, label) in [(-0.5, "slope −1/2"), (-1.0, "slope −1")] {
         let floor = 10f64.powf(lemin);
         let end = smax.min(smin * (floor / e0).powf(1.0 / slope));
@@ -299,34 +357,44 @@ pub fn convergence_svg(result: &DemoResult, cfg: &DemoConfig) -> String {
         );
         let _ = writeln!(
             s,
-            "<text x=\"{:.1}\" y=\"{:.1}\" fill=\"#666\">{label}</text>",
-            px(end) - 60.0,
-            py(e1) - 6.0
+            "<text x=\"{:.1}\" y=\"{:.1}\" fill=\"#666\" text-anchor=\"end\">{label}</text>",
+            px(end) - 4.0,
+            py(e1) - 8.0
         );
     }
-    for (k, chunk) in result.tiles.chunks(cfg.spps.len()).enumerate() {
-        let color = COLORS[k % COLORS.len()];
+    // Direct labels at each line's end, pushed apart to stay legible.
+    let lines: Vec<&[DemoTile]> = tiles.chunks(cfg.spps.len().max(1)).collect();
+    let mut ends: Vec<(f64, usize)> =
+        lines.iter().enumerate().map(|(k, c)| (py(c[c.len() - 1].rmse), k)).collect();
+    ends.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for i in 1..ends.len() {
+        ends[i].0 = ends[i].0.max(ends[i - 1].0 + 17.0);
+    }
+    for (label_y, k) in ends {
+        let chunk = lines[k];
+        let kind = chunk[0].kind;
+        let (color, dash, width) = line_style(kind, k);
         let points: Vec<String> =
             chunk.iter().map(|t| format!("{:.1},{:.1}", px(t.spp as f64), py(t.rmse))).collect();
         let _ = writeln!(
             s,
-            "<polyline fill=\"none\" stroke=\"{color}\" stroke-width=\"2\" points=\"{}\"/>",
+            "<polyline fill=\"none\" stroke=\"{color}\" stroke-width=\"{width}\" stroke-dasharray=\"{dash}\" points=\"{}\"/>",
             points.join(" ")
         );
-        let ly = m + 18.0 * k as f64;
+        let last = &chunk[chunk.len() - 1];
+        let (lx, ly) = (px(last.spp as f64), py(last.rmse));
         let _ = writeln!(
             s,
-            "<line x1=\"{}\" y1=\"{ly}\" x2=\"{}\" y2=\"{ly}\" stroke=\"{color}\" stroke-width=\"2\"/>",
-            x1 + 10.0,
-            x1 + 30.0
+            "<line x1=\"{lx:.1}\" y1=\"{ly:.1}\" x2=\"{:.1}\" y2=\"{label_y:.1}\" stroke=\"{color}\" stroke-width=\"1\"/>",
+            x1 + 14.0
         );
-        let slope = fitted_slope(chunk.iter());
+        let weight = if kind == SamplerKind::MultiJittered { " font-weight=\"bold\"" } else { "" };
         let _ = writeln!(
             s,
-            "<text x=\"{}\" y=\"{}\">{} (slope {slope:.2})</text>",
-            x1 + 35.0,
-            ly + 4.0,
-            chunk[0].kind
+            "<text x=\"{}\" y=\"{:.1}\" fill=\"{color}\"{weight}>{kind} (slope {})</text>",
+            x1 + 18.0,
+            label_y + 5.0,
+            slope_text(fitted_slope(chunk.iter()))
         );
     }
     s += "</svg>\n";

@@ -31,30 +31,62 @@ pub fn points(kind: SamplerKind, n: u32, seed: u32) -> Vec<[f32; 2]> {
     (0..sampler.spp).map(|i| sampler.sample(0, 0, i, 0).to_array()).collect()
 }
 
-/// The pattern as a standalone SVG of `px` pixels square.
+/// The pattern as a standalone SVG of `px` pixels square: strata lines at
+/// a fixed on-screen width, dots sized to fit inside their cells, and one
+/// sample (the first) highlighted with the row and column of the finest
+/// strata it occupies (or its cell, for a grid of cells only), which no
+/// other sample shares.
 pub fn svg(kind: SamplerKind, n: u32, seed: u32, px: u32) -> String {
     let pts = points(kind, n, seed);
-    let (coarse, fine) = strata(kind, pts.len() as u32);
+    let count = pts.len() as u32;
+    let (coarse, fine) = strata(kind, count);
     let mut s = format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{px}\" height=\"{px}\" viewBox=\"-0.02 -0.02 1.04 1.04\">\n\
-         <title>{kind}, {} samples</title>\n\
-         <rect x=\"0\" y=\"0\" width=\"1\" height=\"1\" fill=\"white\" stroke=\"black\" stroke-width=\"0.006\"/>\n",
-        pts.len()
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{px}\" height=\"{px}\" viewBox=\"-0.03 -0.03 1.06 1.06\">\n\
+         <title>{kind}, {count} samples</title>\n\
+         <rect x=\"0\" y=\"0\" width=\"1\" height=\"1\" fill=\"white\"/>\n"
     );
-    for (cells, class, width, colour) in
-        [(fine, "fine", 0.002, "#c8d4e8"), (coarse, "coarse", 0.005, "#5577aa")]
+    // The highlighted sample's row and column (fine strata) or cell.
+    if let Some(&[x, y]) = pts.first() {
+        let band = |cells: u32, v: f32| (v * cells as f32).floor() / cells as f32;
+        if fine > 0 {
+            let c = 1.0 / fine as f32;
+            let _ = writeln!(
+                s,
+                "<rect class=\"row\" x=\"0\" y=\"{}\" width=\"1\" height=\"{c}\" fill=\"#ffe08a\"/>\n\
+                 <rect class=\"column\" x=\"{}\" y=\"0\" width=\"{c}\" height=\"1\" fill=\"#ffe08a\"/>",
+                band(fine, y),
+                band(fine, x)
+            );
+        }
+        if coarse > 0 {
+            let c = 1.0 / coarse as f32;
+            let _ = writeln!(
+                s,
+                "<rect class=\"cell\" x=\"{}\" y=\"{}\" width=\"{c}\" height=\"{c}\" fill=\"#ffc04d\" fill-opacity=\"0.6\"/>",
+                band(coarse, x),
+                band(coarse, y)
+            );
+        }
+    }
+    for (cells, class, width, colour) in [(fine, "fine", 1.0, "#9fb4d8"), (coarse, "coarse", 2.0, "#2f4f8a")]
     {
         for k in 1..cells {
             let v = k as f64 / cells as f64;
             let _ = writeln!(
                 s,
-                "<path class=\"{class}\" d=\"M{v} 0V1M0 {v}H1\" stroke=\"{colour}\" stroke-width=\"{width}\"/>"
+                "<path class=\"{class}\" d=\"M{v} 0V1M0 {v}H1\" stroke=\"{colour}\" stroke-width=\"{width}\" vector-effect=\"non-scaling-stroke\"/>"
             );
         }
     }
-    let r = (0.35 / (pts.len() as f64).sqrt()).clamp(0.008, 0.03);
-    for [x, y] in &pts {
-        let _ = writeln!(s, "<circle class=\"sample\" cx=\"{x}\" cy=\"{y}\" r=\"{r:.4}\" fill=\"#d62728\"/>");
+    s += "<rect x=\"0\" y=\"0\" width=\"1\" height=\"1\" fill=\"none\" stroke=\"black\" stroke-width=\"2\" vector-effect=\"non-scaling-stroke\"/>\n";
+    // Radius: a third of the finest cell's side, so dots stay inside it.
+    let cell = 1.0 / (if fine > 0 { fine } else { coarse.max(1) * 2 }).max(4) as f64;
+    let r = (cell / 3.0).clamp(0.004, 0.02);
+    for (i, [x, y]) in pts.iter().enumerate() {
+        let (class, fill) = if i == 0 { ("sample first", "#d62728") } else { ("sample", "#1f3b73") };
+        let rr = if i == 0 { r * 1.4 } else { r };
+        let _ =
+            writeln!(s, "<circle class=\"{class}\" cx=\"{x}\" cy=\"{y}\" r=\"{rr:.4}\" fill=\"{fill}\"/>");
     }
     s += "</svg>\n";
     s

@@ -47,8 +47,8 @@ fn jittered_converges_faster_than_random_at_128x128() {
         ..Default::default()
     };
     let result = run(&cfg, &|_, _| {}).unwrap();
-    let random = fitted_slope(result.sampler_tiles(SamplerKind::Random));
-    let jittered = fitted_slope(result.sampler_tiles(SamplerKind::Jittered));
+    let random = fitted_slope(result.sampler_tiles(SamplerKind::Random)).unwrap();
+    let jittered = fitted_slope(result.sampler_tiles(SamplerKind::Jittered)).unwrap();
     assert!(jittered < random - 0.1, "jittered slope {jittered} vs random {random}");
     assert!((random + 0.5).abs() < 0.15, "random converges as N^-1/2: {random}");
 }
@@ -56,7 +56,7 @@ fn jittered_converges_faster_than_random_at_128x128() {
 /// `(x, y)` of every `<circle class="sample">` in a pattern SVG.
 fn samples(svg: &str) -> Vec<(f64, f64)> {
     svg.lines()
-        .filter(|l| l.contains("class=\"sample\""))
+        .filter(|l| l.contains("class=\"sample"))
         .map(|l| (attr(l, "cx").parse().unwrap(), attr(l, "cy").parse().unwrap()))
         .collect()
 }
@@ -92,6 +92,16 @@ fn pattern_svgs_hold_the_samples_and_their_strata() {
     // The drawn strata: multi-jittered shows its coarse grid and sub-grid.
     let mj = patterns::svg(SamplerKind::MultiJittered, 16, 1, 128);
     assert_eq!((mj.matches("class=\"coarse\"").count(), mj.matches("class=\"fine\"").count()), (3, 15));
+    // One sample highlighted, with its fine row and column and its cell;
+    // dots fit inside the fine cells.
+    assert_eq!(mj.matches("class=\"sample first\"").count(), 1);
+    for class in ["row", "column", "cell"] {
+        assert_eq!(mj.matches(&format!("class=\"{class}\"")).count(), 1, "{class}");
+    }
+    let mj64 = patterns::svg(SamplerKind::MultiJittered, 64, 1, 160);
+    let r: f64 = attr(mj64.lines().find(|l| l.contains("class=\"sample\"")).unwrap(), "r").parse().unwrap();
+    assert!(r <= 1.0 / 64.0 / 2.0, "radius {r}");
+    assert!(mj64.contains("vector-effect=\"non-scaling-stroke\""));
 }
 
 #[test]
@@ -99,8 +109,8 @@ fn the_page_shows_everything_and_every_image_exists() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("demo");
     let o = Command::new(env!("CARGO_BIN_EXE_aademo"))
-        .args(["--out", out.to_str().unwrap(), "--size", "32", "--spp", "1,4,16", "--reference-spp", "64"])
-        .args(["--figures", "-q"])
+        .args(["--out", out.to_str().unwrap(), "--size", "32", "--spp", "1,3,16", "--reference-spp", "64"])
+        .args(["--figures", "--table1-size", "32", "-q"])
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .output()
         .unwrap();
@@ -116,13 +126,22 @@ fn the_page_shows_everything_and_every_image_exists() {
         for n in [16, 64] {
             assert!(srcs.contains(&format!("patterns/{kind}-{n}.svg").as_str()), "{kind} {n}");
         }
-        for spp in [1, 4, 16] {
+        // Grid patterns (cmj too) take 4 samples for 3 asked, and say so.
+        let grid = matches!(
+            kind,
+            SamplerKind::Regular
+                | SamplerKind::Jittered
+                | SamplerKind::MultiJittered
+                | SamplerKind::CorrelatedMultiJittered
+        );
+        for spp in [1, if grid { 4 } else { 3 }, 16] {
             assert!(srcs.contains(&format!("crops/{kind}-{spp}.png").as_str()), "{kind} crop {spp}");
         }
     }
     for f in FilterKind::ALL {
         assert!(srcs.contains(&format!("profiles/{f}.svg").as_str()), "{f}");
         assert!(srcs.contains(&format!("crops/filter-{f}.png").as_str()), "{f}");
+        assert!(srcs.contains(&format!("crops/filter-{f}-reference.png").as_str()), "{f} reference");
     }
     for n in 4..=8 {
         assert!(srcs.contains(&format!("figures/fig{n}.png").as_str()), "figure {n}");
@@ -130,5 +149,20 @@ fn the_page_shows_everything_and_every_image_exists() {
     }
     assert!(html.contains("planegen --nx 16 --ny 16 | render - --width 256 --height 256 --spp 64"));
     assert!(html.contains("<th>BVH speedup</th>") && html.matches("<tr>").count() > 6, "Table 1");
-    assert!(html.contains("convergence.svg") && !html.contains("<script"));
+    assert!(
+        html.contains("convergence.svg")
+            && html.contains("convergence-turned.svg")
+            && !html.contains("<script")
+    );
+    assert!(
+        html.contains("4 spp · RMSE")
+            && html.contains("3 spp · RMSE")
+            && !html.contains(" 3 spp · RMSE 0.0000")
+    );
+    assert!(html.contains("Why regular does well") && html.contains("turned 10°, it is"));
+    assert!(html.contains("From <code>table1</code> at 32x32 (the report's 512x512 scaled down by 256x"));
+    // The renders carry the crop's outline (yellow) where it belongs.
+    let render = image::open(out.join("renders/regular-16.png")).unwrap().to_rgb8();
+    let (x0, y0, _, _) = DemoConfig { size: 32, ..Default::default() }.crop();
+    assert_eq!(render.get_pixel(x0 - 1, y0 - 1).0, [255, 230, 0]);
 }
