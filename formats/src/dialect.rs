@@ -45,6 +45,13 @@ pub fn from_extension(path: &std::path::Path) -> Option<Dialect> {
     }
 }
 
+/// The language of a scene text: `given` (the user's choice), else the
+/// file name's (.p3f, .nff), else what the content shows ([`sniff`];
+/// standard input and dropped files may have no telling name).
+pub fn detect(path: &std::path::Path, src: &[u8], given: Option<Dialect>) -> Dialect {
+    given.or_else(|| from_extension(path)).unwrap_or_else(|| sniff(src))
+}
+
 /// The field of view in `to`'s convention that gives a `width` x `height`
 /// image the pixels `angle` gives it in `from`'s.
 pub fn convert_angle(angle: f64, from: Dialect, to: Dialect, width: u32, height: u32) -> f64 {

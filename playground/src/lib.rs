@@ -124,6 +124,13 @@ pub extern "C" fn pg_pattern(px: u32, py: u32) -> *const f32 {
     with_session(std::ptr::null(), |s| s.pattern(px, py).as_ptr())
 }
 
+/// The strata of the pattern, for drawing it: `coarse << 16 | fine`
+/// cells per side (0: none).
+#[no_mangle]
+pub extern "C" fn pg_strata() -> u32 {
+    with_session(0, |s| s.strata())
+}
+
 /// The image's width in pixels.
 #[no_mangle]
 pub extern "C" fn pg_width() -> u32 {

@@ -24,11 +24,11 @@ impl Session {
     /// the image).
     pub fn new(settings: &Settings, y0: u32, y1: u32) -> Result<Session, String> {
         let scene = prepare(&settings.scene()?, &settings.prepare_options()).map_err(|e| e.to_string())?;
-        let render = settings.render_settings()?;
+        let render = settings.render_settings();
         let (w, h) = scene.camera.resolution();
         let (y0, y1) = (y0.min(h), y1.clamp(y0.min(h), h));
         let acc = Accumulator::new(PixelWindow { x0: 0, x1: w, y0, y1 }, &render);
-        Ok(Session {
+        let mut session = Session {
             scene,
             settings: render,
             acc,
@@ -36,13 +36,30 @@ impl Session {
             rgba: Vec::new(),
             pattern: Vec::new(),
             command: settings.command(),
-        })
+        };
+        session.refresh();
+        Ok(session)
     }
 
     /// One more sample per pixel; the samples taken so far.
     pub fn pass(&mut self) -> u32 {
         self.acc.add_sample(&self.scene, &self.settings);
+        self.refresh();
         self.acc.samples()
+    }
+
+    /// The band's image as floats and as canvas bytes, once per pass: RGBA
+    /// quantised as `render` writes its PNGs (linear, no sRGB curve).
+    fn refresh(&mut self) {
+        let film = self.acc.film();
+        self.pixels.clear();
+        self.rgba.clear();
+        for p in &film.pixels {
+            let c = p.to_array();
+            self.pixels.extend(c);
+            self.rgba.extend(c.map(|v| to_u8(v, false)));
+            self.rgba.push(255);
+        }
     }
 
     /// Samples per pixel in all.
@@ -66,23 +83,21 @@ impl Session {
     }
 
     /// The band so far, linear RGB.
-    pub fn pixels(&mut self) -> &[f32] {
-        let film = self.acc.film();
-        self.pixels.clear();
-        self.pixels.extend(film.pixels.iter().flat_map(|p| p.to_array()));
+    pub fn pixels(&self) -> &[f32] {
         &self.pixels
     }
 
-    /// The band so far as canvas RGBA, each channel as `render` quantises
-    /// it for a PNG (linear, no sRGB curve).
-    pub fn rgba(&mut self) -> &[u8] {
-        let film = self.acc.film();
-        self.rgba.clear();
-        for p in &film.pixels {
-            self.rgba.extend(p.to_array().map(|c| to_u8(c, false)));
-            self.rgba.push(255);
-        }
+    /// The band so far as canvas RGBA.
+    pub fn rgba(&self) -> &[u8] {
         &self.rgba
+    }
+
+    /// The strata the pattern guarantees, as `coarse << 16 | fine` cells
+    /// per side ([`nffkit_tracer::sampling::SamplerKind::strata`]).
+    pub fn strata(&self) -> u32 {
+        let s = &self.settings.sampler;
+        let (coarse, fine) = s.kind.strata(s.spp);
+        coarse << 16 | fine
     }
 
     /// The unit-square positions of pixel (`px`, `py`)'s samples, as the

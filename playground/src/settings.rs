@@ -44,12 +44,14 @@ pub enum SceneChoice {
 pub struct Settings {
     /// The scene.
     pub scene: SceneChoice,
-    /// Sample pattern, by its command-line name.
-    pub sampler: String,
+    /// Sample pattern (by its command-line name in the JSON).
+    #[serde(deserialize_with = "sampler_named")]
+    pub sampler: SamplerKind,
     /// Samples per pixel asked for.
     pub spp: u32,
-    /// Reconstruction filter, by its command-line name.
-    pub filter: String,
+    /// Reconstruction filter (by its command-line name in the JSON).
+    #[serde(deserialize_with = "filter_named")]
+    pub filter: FilterKind,
     /// Seed of the random patterns.
     pub seed: u32,
     /// Side of each light's square (0: point lights).
@@ -75,11 +77,20 @@ pub const MAX_SQUARES: u32 = 512;
 /// The largest dropped file.
 pub const MAX_FILE: usize = 64 << 20;
 
+/// The member of `all` that `name` names, or what the names are.
 fn named<T: Copy + Into<&'static str>>(all: &[T], name: &str, what: &str) -> Result<T, String> {
     all.iter().copied().find(|k| (*k).into() == name).ok_or_else(|| {
         let names: Vec<&str> = all.iter().map(|&k| k.into()).collect();
         format!("no {what} `{name}`; expected one of {}", names.join(", "))
     })
+}
+
+fn sampler_named<'de, D: serde::Deserializer<'de>>(d: D) -> Result<SamplerKind, D::Error> {
+    named(SamplerKind::ALL, &String::deserialize(d)?, "sampler").map_err(serde::de::Error::custom)
+}
+
+fn filter_named<'de, D: serde::Deserializer<'de>>(d: D) -> Result<FilterKind, D::Error> {
+    named(FilterKind::ALL, &String::deserialize(d)?, "filter").map_err(serde::de::Error::custom)
 }
 
 impl Settings {
@@ -91,8 +102,6 @@ impl Settings {
     }
 
     fn check(&self) -> Result<(), String> {
-        self.sampler_kind()?;
-        self.filter_kind()?;
         if !(1..=MAX_SPP).contains(&self.spp) {
             return Err(format!("samples per pixel from 1 to {MAX_SPP} (got {})", self.spp));
         }
@@ -128,16 +137,6 @@ impl Settings {
         Ok(())
     }
 
-    /// The sample pattern.
-    pub fn sampler_kind(&self) -> Result<SamplerKind, String> {
-        named(SamplerKind::ALL, &self.sampler, "sampler")
-    }
-
-    /// The reconstruction filter.
-    pub fn filter_kind(&self) -> Result<FilterKind, String> {
-        named(FilterKind::ALL, &self.filter, "filter")
-    }
-
     /// The scene, as the generators or the reader make it (a file's
     /// warnings are not shown; its errors are, with line and column).
     pub fn scene(&self) -> Result<Scene, String> {
@@ -147,8 +146,7 @@ impl Settings {
             }
             SceneChoice::Sphereflake { level } => Sphereflake::at(*level, Floor::Checker(8, 8)).scene(),
             SceneChoice::File { name, text } => {
-                let dialect = dialect::from_extension(std::path::Path::new(name))
-                    .unwrap_or_else(|| dialect::sniff(text.as_bytes()));
+                let dialect = dialect::detect(std::path::Path::new(name), text.as_bytes(), None);
                 let opts = ParseOptions { dialect, ..Default::default() };
                 nff::parse(text.as_bytes(), &opts).map_err(|e| format!("{name}: {e}"))?.scene
             }
@@ -169,15 +167,15 @@ impl Settings {
 
     /// How to render: `render`'s defaults with a named sampler (so one
     /// sample is jittered like the rest, not the pixel centre).
-    pub fn render_settings(&self) -> Result<RenderSettings, String> {
+    pub fn render_settings(&self) -> RenderSettings {
         let mut s = RenderSettings {
-            sampler: Sampler::new(self.sampler_kind()?, self.spp, self.seed).0,
+            sampler: Sampler::new(self.sampler, self.spp, self.seed).0,
             centre_single_sample: false,
-            filter: self.filter_kind()?,
+            filter: self.filter,
             ..Default::default()
         };
         s.shade.light_size = self.light_size;
-        Ok(s)
+        s
     }
 
     /// The shell command that renders the same image (a dropped file is
@@ -242,7 +240,7 @@ mod tests {
         );
         let want = render(
             &prepare(&s.scene().unwrap(), &s.prepare_options()).unwrap(),
-            &s.render_settings().unwrap(),
+            &s.render_settings(),
             &|_, _| {},
         );
         let mut session = Session::new(&s, 10, 20).unwrap();

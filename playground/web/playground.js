@@ -237,18 +237,6 @@ function requestPattern() {
   }
 }
 
-// The strata a pattern guarantees (as the demo page's plots draw them).
-function strata(kind, n) {
-  const root = Math.round(Math.sqrt(n));
-  switch (kind) {
-    case 'random': return [0, 0];
-    case 'regular': case 'jittered': return [root, 0];
-    case 'n-rooks': return [0, n];
-    case 'multi-jittered': case 'cmj': return [root, n];
-    default: return [0, isPowerOfTwo(n) ? n : 0];
-  }
-}
-
 function drawPattern() {
   const c = $('pattern').getContext('2d');
   const S = $('pattern').width;
@@ -259,7 +247,7 @@ function drawPattern() {
   if (!pg.pattern || !pg.run) return;
   const pts = pg.pattern.pts;
   const n = pts.length / 2;
-  const [coarse, fine] = strata(pg.run.settings.sampler, n);
+  const { coarse, fine } = pg.pattern;
   for (const [cells, colour, width] of [[fine, '#c8d4e8', 1], [coarse, '#5577aa', 2]]) {
     c.strokeStyle = colour;
     c.lineWidth = width;

@@ -80,6 +80,7 @@ self.onmessage = (e) => {
     const n = exports.pg_total();
     const p = exports.pg_pattern(e.data.x, e.data.y);
     const pts = new Float32Array(exports.memory.buffer, p, 2 * n).slice();
-    self.postMessage({ type: 'pattern', x: e.data.x, y: e.data.y, pts });
+    const strata = exports.pg_strata();
+    self.postMessage({ type: 'pattern', x: e.data.x, y: e.data.y, pts, coarse: strata >>> 16, fine: strata & 0xffff });
   }
 };

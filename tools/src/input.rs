@@ -142,15 +142,8 @@ pub fn report<'s>(name: &'s str, src: &'s [u8], warnings: Warnings) -> Report<'s
     }
 }
 
-/// The language of the scene at `path` with bytes `src`: `given` (the
-/// user's `--dialect`), else the file name's (.p3f, .nff), else what the
-/// content shows ([`dialect::sniff`]; standard input has no name).
-pub fn dialect_of(path: &Path, src: &[u8], given: Option<Dialect>) -> Dialect {
-    given.or_else(|| dialect::from_extension(path)).unwrap_or_else(|| dialect::sniff(src))
-}
-
 /// Read and parse a scene in its language (`dialect`, else as
-/// [`dialect_of`] finds), printing its warnings as `warnings` asks and
+/// [`dialect::detect`] finds), printing its warnings as `warnings` asks and
 /// every error to stderr; notes (uses of documented extensions) are left to
 /// `--check`. Fails with a one-line summary when the file has errors.
 pub fn load_scene(
@@ -162,7 +155,7 @@ pub fn load_scene(
     let src = read_source(path)?;
     let name = display_name(path);
     let mut out = report(&name, &src, warnings);
-    let opts = ParseOptions { dialect: dialect_of(path, &src, dialect), ..*opts };
+    let opts = ParseOptions { dialect: dialect::detect(path, &src, dialect), ..*opts };
     match nff::parse(&src, &opts) {
         Ok(parsed) => {
             if warnings != Warnings::Hide {

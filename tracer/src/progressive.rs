@@ -45,11 +45,6 @@ impl Accumulator {
         self.samples
     }
 
-    /// The pixels this accumulator covers.
-    pub fn window(&self) -> PixelWindow {
-        self.window
-    }
-
     /// Whether every sample of `settings`' pattern has been taken.
     pub fn done(&self, scene: &RenderScene, settings: &RenderSettings) -> bool {
         self.samples >= samples_per_pixel(scene, settings)

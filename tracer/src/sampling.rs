@@ -53,6 +53,22 @@ impl SamplerKind {
     /// new variant is listed without anyone remembering to).
     pub const ALL: &'static [SamplerKind] = <SamplerKind as VariantArray>::VARIANTS;
 
+    /// The strata a pattern of `n` samples guarantees one sample in, as
+    /// cells per side of a coarse grid and of a fine one (0: none), for
+    /// drawing: a jittered grid's √n x √n cells; n-rooks' n rows and
+    /// columns; multi-jittering's both (the P3D report's §4.1); the n rows
+    /// and columns of Hammersley and Sobol at powers of two ((0, m, 2)-nets).
+    pub fn strata(self, n: u32) -> (u32, u32) {
+        let root = (n as f64).sqrt().round() as u32;
+        match self {
+            SamplerKind::Random => (0, 0),
+            SamplerKind::Regular | SamplerKind::Jittered => (root, 0),
+            SamplerKind::NRooks => (0, n),
+            SamplerKind::MultiJittered | SamplerKind::CorrelatedMultiJittered => (root, n),
+            SamplerKind::Hammersley | SamplerKind::Sobol => (0, if n.is_power_of_two() { n } else { 0 }),
+        }
+    }
+
     /// The command-line name.
     pub fn name(self) -> &'static str {
         self.into()

@@ -112,8 +112,7 @@ fn main_inner(a: &Args) -> Result<()> {
                 .clone()
                 .or_else(playground::built_wasm)
                 .context("cannot find this program's folder")?;
-            playground::check_wasm(&wasm)?;
-            Some(wasm)
+            Some(playground::read_wasm(&wasm)?)
         }
         false => None,
     };
@@ -172,7 +171,7 @@ fn main_inner(a: &Args) -> Result<()> {
     // The command as the user would type it, without the binary's folder.
     let command =
         std::iter::once("aademo".to_string()).chain(std::env::args().skip(1)).collect::<Vec<_>>().join(" ");
-    let index = page::write(&a.out, &cfg, &result, figures.as_ref(), &command)?;
+    let index = page::write(&a.out, &cfg, &result, figures.as_ref(), &command, wasm.is_some())?;
     image_io::save(&contact_sheet(&result, &cfg), &a.out.join("contact-sheet.png"), false)?;
     let t = table(&result, &cfg);
     atomic::write_bytes(&a.out.join("errors.md"), t.as_bytes())?;

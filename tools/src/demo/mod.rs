@@ -18,7 +18,7 @@ pub mod text;
 
 use crate::gen::planegen::Board;
 use crate::qa::metrics;
-use anyhow::Result;
+use anyhow::{Context, Result};
 use nffkit_formats::image_io::RgbImage;
 use nffkit_tracer::film::Film;
 use nffkit_tracer::filter::FilterKind;
@@ -51,8 +51,8 @@ pub struct DemoConfig {
     /// Seed of the random patterns.
     pub seed: u32,
     /// The second board's turn in degrees: its squares' edges cross the
-    /// pixel grid at an angle, where a regular grid of samples loses its
-    /// advantage on the axis-aligned horizon.
+    /// pixel grid at a slant instead of along the rows, which changes how
+    /// a regular grid of samples errs.
     pub rotation: f64,
 }
 
@@ -150,12 +150,14 @@ pub fn run(cfg: &DemoConfig, tick: &(dyn Fn(usize, usize) + Sync)) -> Result<Dem
         };
         render(&boards[b], &settings, &|_, _| {}).film
     };
-    // References first (Sobol, one per board with the box filter, then one
-    // per filter of the filter row), then each board's samplers x counts,
-    // then the filter row.
+    // References first (Sobol): the upright board through box and through
+    // each other filter of the filter row, then the turned board through
+    // box; then each board's samplers x counts; then the filter row.
+    let mut reference_filters = vec![FilterKind::Box];
+    reference_filters.extend(cfg.filters.iter().filter(|&&f| f != FilterKind::Box));
     let reference = |b, filter| (b, SamplerKind::Sobol, cfg.reference_spp, filter);
-    let mut jobs: Vec<Job> = vec![reference(0, FilterKind::Box), reference(1, FilterKind::Box)];
-    jobs.extend(cfg.filters.iter().map(|&f| reference(0, f)));
+    let mut jobs: Vec<Job> = reference_filters.iter().map(|&f| reference(0, f)).collect();
+    jobs.push(reference(1, FilterKind::Box));
     let references = jobs.len();
     for b in 0..2 {
         for &kind in &cfg.samplers {
@@ -163,6 +165,11 @@ pub fn run(cfg: &DemoConfig, tick: &(dyn Fn(usize, usize) + Sync)) -> Result<Dem
         }
     }
     jobs.extend(cfg.filters.iter().map(|&f| (0, cfg.filter_sampler, cfg.filter_spp, f)));
+    // Which reference job each tile is measured against.
+    let reference_of = |b: usize, filter: FilterKind| match b {
+        0 => reference_filters.iter().position(|&f| f == filter).unwrap_or(0),
+        _ => references - 1,
+    };
     let done = std::sync::atomic::AtomicUsize::new(0);
     let mut films: Vec<Film> = jobs
         .par_iter()
@@ -174,18 +181,12 @@ pub fn run(cfg: &DemoConfig, tick: &(dyn Fn(usize, usize) + Sync)) -> Result<Dem
         .collect();
     let rest = films.split_off(references);
     let images: Vec<RgbImage> = films.iter().map(Film::to_image).collect();
-    let filter_index = |f: FilterKind| 2 + cfg.filters.iter().position(|&g| g == f).unwrap_or(0);
     let mut tiles: Vec<DemoTile> = jobs[references..]
         .par_iter()
         .zip(rest)
         .map(|(&(b, kind, spp, filter), film)| {
             let image = film.to_image();
-            // Each tile against its own board's reference through its filter.
-            let reference = match (b, filter) {
-                (1, _) => &images[1],
-                (_, FilterKind::Box) => &images[0],
-                (_, f) => &images[filter_index(f)],
-            };
+            let reference = &images[reference_of(b, filter)];
             DemoTile {
                 kind,
                 filter,
@@ -200,9 +201,9 @@ pub fn run(cfg: &DemoConfig, tick: &(dyn Fn(usize, usize) + Sync)) -> Result<Dem
     let per_board = cfg.samplers.len() * cfg.spps.len();
     let filter_tiles = tiles.split_off(2 * per_board);
     let rotated_tiles = tiles.split_off(per_board);
-    let filter_references = films.split_off(2);
-    let [reference, rotated_reference]: [Film; 2] =
-        films.try_into().map_err(|_| anyhow::anyhow!("the demo's two references were not rendered"))?;
+    let filter_references = cfg.filters.iter().map(|&f| films[reference_of(0, f)].clone()).collect();
+    let rotated_reference = films.pop().context("the turned board's reference was not rendered")?;
+    let reference = films.swap_remove(0);
     Ok(DemoResult { reference, tiles, filter_tiles, filter_references, rotated_reference, rotated_tiles })
 }
 

@@ -196,14 +196,15 @@ fn pattern_cards(
     Ok(h)
 }
 
-/// Write the page and every image it uses into `dir`; returns the path of
-/// `index.html`.
+/// Write the page and every image it uses into `dir` (linking the
+/// playground when `playground`); returns the path of `index.html`.
 pub fn write(
     dir: &Path,
     cfg: &DemoConfig,
     result: &DemoResult,
     figures: Option<&FiguresSection>,
     command: &str,
+    playground: bool,
 ) -> Result<std::path::PathBuf> {
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let crop = cfg.crop();
@@ -227,7 +228,7 @@ pub fn write(
         ch = crop.3,
         cx = crop.0,
         cy = crop.1,
-        play = if dir.join("playground/index.html").is_file() || command.contains("--playground") {
+        play = if playground {
             " <a href=\"playground/index.html\">The playground</a> traces the same board live in the browser: turn \
              the knobs and watch it converge."
         } else {
@@ -277,17 +278,19 @@ pub fn write(
 
 /// The upright and the turned board side by side: errors per pattern and
 /// the crops of regular and multi-jittered at the lowest stratified count.
-fn rotated_section(
+fn rotated_section<'a>(
     dir: &Path,
     cfg: &DemoConfig,
-    result: &DemoResult,
+    result: &'a DemoResult,
     zoom: &dyn Fn(&Film) -> RgbImage,
 ) -> Result<String> {
     let low = cfg.spps.iter().copied().find(|&s| s >= 4).unwrap_or(cfg.spps[0]);
-    let rmse = |tiles: &[DemoTile], kind| {
+    // The tile of `kind` at the count `low` asks for (grid patterns round).
+    let tile = |tiles: &'a [DemoTile], kind| {
         let want = rounded_spp(kind, low, cfg.seed);
-        tiles.iter().find(|t| t.kind == kind && t.spp == want).map(|t| t.rmse)
+        tiles.iter().find(|t| t.kind == kind && t.spp == want)
     };
+    let rmse = |tiles: &'a [DemoTile], kind| tile(tiles, kind).map(|t| t.rmse);
     let (r, mj, j) = (SamplerKind::Regular, SamplerKind::MultiJittered, SamplerKind::Jittered);
     let reading = match (
         (rmse(&result.tiles, r), rmse(&result.tiles, mj), rmse(&result.tiles, j)),
@@ -333,10 +336,9 @@ fn rotated_section(
          reference</figcaption></figure>"
     );
     for kind in [SamplerKind::Regular, SamplerKind::MultiJittered] {
-        let want = rounded_spp(kind, low, cfg.seed);
         for (b, tiles, name) in [(0, &result.tiles, "upright"), (1, &result.rotated_tiles, "turned")] {
-            if let Some(t) = tiles.iter().find(|t| t.kind == kind && t.spp == want) {
-                let c = png(dir, &format!("crops/board{b}-{kind}-{want}.png"), &zoom(&t.film))?;
+            if let Some(t) = tile(tiles, kind) {
+                let c = png(dir, &format!("crops/board{b}-{kind}-{}.png", t.spp), &zoom(&t.film))?;
                 let _ = write!(
                     h,
                     "<figure><img class=\"px\" src=\"{c}\" alt=\"{kind} {name}\"><figcaption>{name}, {kind}{}</figcaption></figure>",

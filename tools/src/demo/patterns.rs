@@ -12,19 +12,6 @@
 use nffkit_tracer::sampling::{Sampler, SamplerKind};
 use std::fmt::Write as _;
 
-/// The strata drawn for a pattern of `n` samples: the coarse grid's cells
-/// per side and the fine grid's (0: none).
-pub fn strata(kind: SamplerKind, n: u32) -> (u32, u32) {
-    let root = (n as f64).sqrt().round() as u32;
-    match kind {
-        SamplerKind::Random => (0, 0),
-        SamplerKind::Regular | SamplerKind::Jittered => (root, 0),
-        SamplerKind::NRooks => (0, n),
-        SamplerKind::MultiJittered | SamplerKind::CorrelatedMultiJittered => (root, n),
-        SamplerKind::Hammersley | SamplerKind::Sobol => (0, if n.is_power_of_two() { n } else { 0 }),
-    }
-}
-
 /// The `n` sample positions of pixel (0, 0), dimension 0, in [0, 1)².
 pub fn points(kind: SamplerKind, n: u32, seed: u32) -> Vec<[f32; 2]> {
     let sampler = Sampler::new(kind, n, seed).0;
@@ -39,7 +26,7 @@ pub fn points(kind: SamplerKind, n: u32, seed: u32) -> Vec<[f32; 2]> {
 pub fn svg(kind: SamplerKind, n: u32, seed: u32, px: u32) -> String {
     let pts = points(kind, n, seed);
     let count = pts.len() as u32;
-    let (coarse, fine) = strata(kind, count);
+    let (coarse, fine) = kind.strata(count);
     let mut s = format!(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{px}\" height=\"{px}\" viewBox=\"-0.03 -0.03 1.06 1.06\">\n\
          <title>{kind}, {count} samples</title>\n\

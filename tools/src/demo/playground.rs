@@ -25,19 +25,20 @@ pub fn built_wasm() -> Option<PathBuf> {
     Some(target.join("wasm32-unknown-unknown").join("wasm").join(WASM))
 }
 
-/// Check `wasm` is a WebAssembly module, before any rendering.
-pub fn check_wasm(wasm: &Path) -> Result<()> {
-    let head = std::fs::read(wasm).map(|b| b.get(..4).map(<[u8]>::to_vec)).with_context(|| {
+/// Read the module at `wasm`, checking it is WebAssembly (before any
+/// rendering, so a missing build is said at once).
+pub fn read_wasm(wasm: &Path) -> Result<Vec<u8>> {
+    let module = std::fs::read(wasm).with_context(|| {
         format!(
             "the playground's WebAssembly ({}) is not built: run `cargo playground` \
              (after `rustup target add wasm32-unknown-unknown`), or name the module with --wasm",
             wasm.display()
         )
     })?;
-    if head.as_deref() != Some(b"\0asm") {
+    if !module.starts_with(b"\0asm") {
         bail!("{} is not a WebAssembly module", wasm.display());
     }
-    Ok(())
+    Ok(module)
 }
 
 fn options<T: Copy + Into<&'static str>>(all: &[T], selected: &str) -> String {
@@ -50,18 +51,17 @@ fn options<T: Copy + Into<&'static str>>(all: &[T], selected: &str) -> String {
         .collect()
 }
 
-/// Write the playground into `dir/playground/`; returns its page.
-pub fn write(dir: &Path, wasm: &Path) -> Result<PathBuf> {
-    check_wasm(wasm)?;
+/// Write the playground, with its `module` (from [`read_wasm`]), into
+/// `dir/playground/`; returns its page.
+pub fn write(dir: &Path, module: &[u8]) -> Result<PathBuf> {
     let out = dir.join("playground");
     std::fs::create_dir_all(&out).with_context(|| format!("cannot create {}", out.display()))?;
     let page = PAGE
         .replace("{{SAMPLERS}}", &options(SamplerKind::ALL, SamplerKind::MultiJittered.into()))
         .replace("{{FILTERS}}", &options(FilterKind::ALL, FilterKind::Box.into()));
-    let module = std::fs::read(wasm).with_context(|| format!("cannot read {}", wasm.display()))?;
     atomic::write_bytes(&out.join("index.html"), page.as_bytes())?;
     atomic::write_bytes(&out.join("playground.js"), SCRIPT.as_bytes())?;
     atomic::write_bytes(&out.join("worker.js"), WORKER.as_bytes())?;
-    atomic::write_bytes(&out.join(WASM), &module)?;
+    atomic::write_bytes(&out.join(WASM), module)?;
     Ok(out.join("index.html"))
 }

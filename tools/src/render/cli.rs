@@ -52,7 +52,8 @@ fn check_files(
         let name = input::display_name(path);
         match input::read_source(path) {
             Ok(src) => {
-                let opts = ParseOptions { dialect: input::dialect_of(path, &src, dialect), ..*opts };
+                let opts =
+                    ParseOptions { dialect: nffkit_formats::dialect::detect(path, &src, dialect), ..*opts };
                 let report = check::check_source(&name, &src, &opts, warnings);
                 eprint_safe!("{}", report.diagnostics);
                 cli_util::print(format_args!("{}\n", report.summary))?;

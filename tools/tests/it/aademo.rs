@@ -154,10 +154,9 @@ fn the_page_shows_everything_and_every_image_exists() {
             && html.contains("convergence-turned.svg")
             && !html.contains("<script")
     );
+    assert!(html.contains("4 spp · RMSE") && html.contains("3 spp · RMSE"));
     assert!(
-        html.contains("4 spp · RMSE")
-            && html.contains("3 spp · RMSE")
-            && !html.contains(" 3 spp · RMSE 0.0000")
+        html.contains("alt=\"regular, 4 spp, horizon\"") && html.contains("alt=\"random, 3 spp, horizon\"")
     );
     assert!(html.contains("Why regular does well") && html.contains("turned 10°, it is"));
     assert!(html.contains("From <code>table1</code> at 32x32 (the report's 512x512 scaled down by 256x"));
