@@ -7,12 +7,13 @@ mod build;
 mod packet;
 mod wide;
 
-use super::{test_prim, AccelInfo, Intersector, Query, Tracer};
+use super::{AccelInfo, Intersector, Query, Tracer};
 use crate::aabb::ENTRY_SLACK;
 use crate::geometry::{Geometry, Hit};
 use crate::math::RayQuery;
 use crate::packet::{LaneHits, RayPacket};
 use crate::simd::lanes::Mask;
+use crate::stats::PerKind;
 use crate::stopwatch::Stopwatch;
 use packet::PacketEntry;
 use wide::{Entry, Node4, Ray4, STACK};
@@ -106,28 +107,26 @@ impl Bvh {
         geom: &Geometry,
         q: &RayQuery,
         t_max: f32,
-        mut best: Option<Hit>,
+        best: Option<Hit>,
         stack: &mut [Entry],
         c: &mut crate::stats::Counters,
     ) -> Option<Hit> {
-        let r = Ray4::new(q);
+        let mut walk = SingleRay::<Q>::new(q, t_max, best);
         let stack = &mut stack[..STACK];
         let (mut e, mut sp) = (start, 0);
-        loop {
-            // Boxes are entered up to a margin past the best hit or the end.
-            let limit = if Q::ANY_HIT { t_max } else { best.map_or(t_max, |h| h.t) } * ENTRY_SLACK;
-            // (A nearest-hit entry farther than that: skipped.)
-            if Q::ANY_HIT || e.t <= limit {
+        'walk: loop {
+            // (A nearest-hit entry farther than the box limit: skipped.)
+            if Q::ANY_HIT || e.t <= walk.box_limit {
                 if e.count > 0 {
                     for &id in self.leaf(&e) {
-                        if test_prim::<Q>(geom, id, q, &mut best, t_max, c) {
-                            return best;
+                        if walk.test(geom, id) {
+                            break 'walk;
                         }
                     }
                 } else {
-                    c.visits += 1;
+                    walk.visits += 1;
                     let node = &self.wide[e.child as usize];
-                    let (t, mut mask) = node.hit(&r, limit);
+                    let (t, mut mask) = node.hit(&walk.ray, walk.box_limit);
                     if mask != 0 {
                         if Q::ANY_HIT {
                             // In slot order: all but the last stacked.
@@ -172,6 +171,82 @@ impl Bvh {
             sp -= 1;
             e = stack[sp];
         }
-        best
+        walk.finish(c)
+    }
+}
+
+/// One ray's walk through the tree: its splatted form, the best hit and
+/// the bounds it sets, and its counts, all locals the walk keeps in
+/// registers (a best hit read back through memory after every test stalls
+/// the loop on store forwarding); the counts reach the thread's counters
+/// once, at the end.
+struct SingleRay<'q, Q: Query> {
+    ray: Ray4,
+    q: &'q RayQuery,
+    t_max: f32,
+    best: Option<Hit>,
+    /// Boxes entered before this (the best hit's distance or the ray's
+    /// end, with [`ENTRY_SLACK`]).
+    box_limit: f32,
+    /// Primitive hits accepted below this: as [`test_prim`](super::test_prim) bounds them,
+    /// the best hit's distance nudged up one ulp (so an equal-distance hit
+    /// with a lower id can win the tie), or the ray's end.
+    prim_limit: f32,
+    visits: u64,
+    tests: PerKind,
+    _query: std::marker::PhantomData<Q>,
+}
+
+impl<'q, Q: Query> SingleRay<'q, Q> {
+    #[inline(always)]
+    fn new(q: &'q RayQuery, t_max: f32, best: Option<Hit>) -> Self {
+        let mut walk = SingleRay {
+            ray: Ray4::new(q),
+            q,
+            t_max,
+            best: None,
+            box_limit: t_max * ENTRY_SLACK,
+            prim_limit: t_max,
+            visits: 0,
+            tests: PerKind::default(),
+            _query: std::marker::PhantomData,
+        };
+        if let Some(h) = best {
+            walk.take(h);
+        }
+        walk
+    }
+
+    /// `h` becomes the best hit; nearest-hit bounds shrink to it.
+    #[inline(always)]
+    fn take(&mut self, h: Hit) {
+        self.best = Some(h);
+        if !Q::ANY_HIT {
+            self.box_limit = h.t * ENTRY_SLACK;
+            self.prim_limit = f32::from_bits(h.t.to_bits() + 1);
+        }
+    }
+
+    /// Test primitive `id`, as [`test_prim`](super::test_prim) does; true when an any-hit
+    /// walk is done.
+    #[inline(always)]
+    fn test(&mut self, geom: &Geometry, id: u32) -> bool {
+        self.tests[geom.locate(id).0] += 1;
+        let limit = if Q::ANY_HIT { self.t_max } else { self.prim_limit };
+        match geom.intersect(id, self.q, limit) {
+            Some(h) if Q::ANY_HIT || h.beats(&self.best) => {
+                self.take(h);
+                Q::ANY_HIT
+            }
+            _ => false,
+        }
+    }
+
+    /// The best hit, the counts added to `c`.
+    #[inline(always)]
+    fn finish(self, c: &mut crate::stats::Counters) -> Option<Hit> {
+        c.visits += self.visits;
+        c.tests += self.tests;
+        self.best
     }
 }

@@ -222,8 +222,11 @@ impl Node4 {
     /// Entry distances of the ray into the four child boxes within
     /// `(t_min, t_max)`, and the mask of boxes hit. The same conservative
     /// slab test as [`Aabb::hit`], four boxes at a time.
+    /// The distances come back as an array: indexing a `Vec4` by a
+    /// variable slot compiles to a jump table, an indirect branch that
+    /// mispredicts on every other child.
     #[inline(always)]
-    pub fn hit(&self, r: &Ray4, t_max: f32) -> (Vec4, u32) {
+    pub fn hit(&self, r: &Ray4, t_max: f32) -> ([f32; 4], u32) {
         let (nx, fx) = if r.neg[0] { (self.max[0], self.min[0]) } else { (self.min[0], self.max[0]) };
         let (ny, fy) = if r.neg[1] { (self.max[1], self.min[1]) } else { (self.min[1], self.max[1]) };
         let (nz, fz) = if r.neg[2] { (self.max[2], self.min[2]) } else { (self.min[2], self.max[2]) };
@@ -235,7 +238,7 @@ impl Node4 {
             * SLAB_WIDEN)
             .min(Vec4::splat(t_max));
         let mask = t_near.cmple(t_far).bitmask();
-        (t_near, mask)
+        (t_near.to_array(), mask)
     }
 
     /// The packet form of [`Node4::hit`], with vectors `V`: per child
