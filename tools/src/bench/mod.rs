@@ -56,18 +56,63 @@ pub fn render_timing(scene: &Scene, args: &[&str], runs: u32) -> Result<RenderTi
 }
 
 /// What loading the sphereflake costs in one fresh process.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Default)]
 pub struct FlakeProcess {
     /// Bytes of NFF.
     pub bytes: usize,
     /// Reading and parsing, seconds.
     pub parse: f64,
-    /// Building the accelerator, seconds.
+    /// Preparing the scene (primitives, camera, accelerator), seconds.
     pub build: f64,
+    /// Of which building the BVH, seconds.
+    pub bvh: f64,
+    /// The BVH's SAH cost (the same every run: the build is deterministic).
+    pub sah: f64,
     /// Rendering 512x512 at 1 spp, seconds.
     pub render: f64,
     /// Peak resident memory of the process, bytes (Linux; 0 elsewhere).
     pub peak: u64,
+}
+
+impl FlakeProcess {
+    /// The child's line for the parent.
+    pub fn to_line(&self) -> String {
+        format!(
+            "flake bytes={} parse={} build={} bvh={} sah={} render={} peak={}",
+            self.bytes, self.parse, self.build, self.bvh, self.sah, self.render, self.peak
+        )
+    }
+
+    /// Read the child's line back.
+    pub fn from_line(line: &str) -> Option<FlakeProcess> {
+        let mut f = FlakeProcess::default();
+        for field in line.strip_prefix("flake ")?.split_whitespace() {
+            let (k, v) = field.split_once('=')?;
+            match k {
+                "bytes" => f.bytes = v.parse().ok()?,
+                "parse" => f.parse = v.parse().ok()?,
+                "build" => f.build = v.parse().ok()?,
+                "bvh" => f.bvh = v.parse().ok()?,
+                "sah" => f.sah = v.parse().ok()?,
+                "render" => f.render = v.parse().ok()?,
+                "peak" => f.peak = v.parse().ok()?,
+                _ => return None,
+            }
+        }
+        Some(f)
+    }
+
+    /// The best of two runs: each time's minimum, the highest peak.
+    pub fn best(self, o: FlakeProcess) -> FlakeProcess {
+        FlakeProcess {
+            parse: self.parse.min(o.parse),
+            build: self.build.min(o.build),
+            bvh: self.bvh.min(o.bvh),
+            render: self.render.min(o.render),
+            peak: self.peak.max(o.peak),
+            ..o
+        }
+    }
 }
 
 /// Inside the child process: read `path`, prepare and render it, and
@@ -88,7 +133,16 @@ pub fn flake_process(path: &Path) -> Result<FlakeProcess> {
     let t2 = Instant::now();
     render(&prepared, &config.settings, &|_, _| {});
     let render = t2.elapsed().as_secs_f64();
-    Ok(FlakeProcess { bytes: len, parse, build, render, peak: peak_memory() })
+    let info = prepared.accel_info();
+    Ok(FlakeProcess {
+        bytes: len,
+        parse,
+        build,
+        bvh: info.build_seconds,
+        sah: info.sah_cost.unwrap_or(0.0),
+        render,
+        peak: peak_memory(),
+    })
 }
 
 /// Peak resident set of this process (VmHWM), bytes.
@@ -99,33 +153,6 @@ pub fn peak_memory() -> u64 {
         .find_map(|l| l.strip_prefix("VmHWM:"))
         .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok())
         .map_or(0, |kb| kb * 1024)
-}
-
-impl FlakeProcess {
-    /// The line the child prints for the parent.
-    pub fn to_line(&self) -> String {
-        format!(
-            "flake bytes={} parse={} build={} render={} peak={}",
-            self.bytes, self.parse, self.build, self.render, self.peak
-        )
-    }
-
-    /// Read the child's line back.
-    pub fn from_line(line: &str) -> Option<FlakeProcess> {
-        let mut f = FlakeProcess { bytes: 0, parse: 0.0, build: 0.0, render: 0.0, peak: 0 };
-        for field in line.strip_prefix("flake ")?.split_whitespace() {
-            let (k, v) = field.split_once('=')?;
-            match k {
-                "bytes" => f.bytes = v.parse().ok()?,
-                "parse" => f.parse = v.parse().ok()?,
-                "build" => f.build = v.parse().ok()?,
-                "render" => f.render = v.parse().ok()?,
-                "peak" => f.peak = v.parse().ok()?,
-                _ => return None,
-            }
-        }
-        Some(f)
-    }
 }
 
 /// Write the sphereflake at `level` (SPD's balls, 512x512) to `path`.
@@ -187,6 +214,15 @@ pub fn embree_mrays(text: &str) -> Option<f64> {
     before.rsplit([' ', ':']).next()?.parse().ok()
 }
 
+/// Embree's build times from `embree-rays --verbose`: its first build
+/// (with one-off start-up) and the median of its rebuilds, milliseconds.
+pub fn embree_build_ms(text: &str) -> Option<(f64, f64)> {
+    let line = text.lines().find(|l| l.starts_with("build: first "))?;
+    let first = number_after(line, "build: first")?;
+    let median = number_after(line, "median")?;
+    Some((first, median))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -200,12 +236,33 @@ mod tests {
         assert_eq!(number_after(embree, "quality medium:"), Some(6.123));
         assert_eq!(number_after("nothing", "RESULT"), None);
         assert_eq!(embree_mrays(embree), Some(6.123));
+        let build =
+            "build: first 130.05 ms (includes one-off start-up); 5 rebuilds: median 96.13 ms [90.21-144.55]";
+        assert_eq!(embree_build_ms(build), Some((130.05, 96.13)));
+        assert_eq!(embree_build_ms("RESULT x"), None);
+        let f =
+            FlakeProcess { bytes: 3, parse: 0.5, build: 0.25, bvh: 0.125, sah: 3.5, render: 2.0, peak: 9 };
+        let back = FlakeProcess::from_line(&f.to_line()).expect("reads its own line");
+        assert_eq!((back.bytes, back.bvh, back.sah, back.peak), (3, 0.125, 3.5, 9));
     }
 
     #[test]
     fn flake_lines_round_trip() {
-        let f = FlakeProcess { bytes: 10, parse: 0.5, build: 0.25, render: 0.125, peak: 4096 };
+        let f = FlakeProcess {
+            bytes: 10,
+            parse: 0.5,
+            build: 0.25,
+            bvh: 0.0625,
+            sah: 3.5,
+            render: 0.125,
+            peak: 4096,
+        };
         let g = FlakeProcess::from_line(&f.to_line()).unwrap();
-        assert_eq!((g.bytes, g.parse, g.build, g.render, g.peak), (10, 0.5, 0.25, 0.125, 4096));
+        assert_eq!(
+            (g.bytes, g.parse, g.build, g.bvh, g.sah, g.render, g.peak),
+            (10, 0.5, 0.25, 0.0625, 3.5, 0.125, 4096)
+        );
+        let best = f.best(FlakeProcess { parse: 0.25, bvh: 0.125, peak: 8192, ..f });
+        assert_eq!((best.parse, best.bvh, best.peak), (0.25, 0.0625, 8192));
     }
 }

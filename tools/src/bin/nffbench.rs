@@ -20,13 +20,14 @@ use std::time::Instant;
 /// shadow rays per second on one thread, and whole Whitted renders (depth 6)
 /// at 1 and 16 spp on every thread; `render --check` of mount_s7 as a whole
 /// process; then the sphereflake at levels 2 and 6, each read, built and
-/// rendered in a fresh process, with its peak memory. With --povray,
+/// rendered in a fresh process, with its peak memory, BVH build time and
+/// the tree's SAH cost. With --povray,
 /// POV-Ray 3.7 renders the same scenes as nffconvert writes them, whole
 /// processes side by side: 1 and 16 spp, 16 spp pruned, soft shadows
 /// (area lights) and depth of field (focal blur). With --shared DIR (the
 /// project's ../shared), Intel Embree (bench/embree-rays: rtcIntersect1
 /// and 8/16-wide packets) is run on the same scenes and shown beside these
-/// figures.
+/// figures, and its BVH build of the big sphereflake beside ours.
 #[derive(Parser, Debug)]
 #[command(name = "nffbench", version)]
 struct Args {
@@ -141,16 +142,7 @@ fn flake(level: u32, dir: &Path, runs: u32) -> Result<(FlakeProcess, f64)> {
         let f = out.lines().find_map(FlakeProcess::from_line).context("the child printed no figures")?;
         best = Some(match best {
             None => (f, whole),
-            Some((b, w)) => (
-                FlakeProcess {
-                    bytes: f.bytes,
-                    parse: b.parse.min(f.parse),
-                    build: b.build.min(f.build),
-                    render: b.render.min(f.render),
-                    peak: b.peak.max(f.peak),
-                },
-                w.min(whole),
-            ),
+            Some((b, w)) => (b.best(f), w.min(whole)),
         });
     }
     best.context("no run")
@@ -215,17 +207,21 @@ fn report(a: &Args) -> Result<String> {
     let (big, big_whole) = flake(a.flake_level, dir.path(), a.runs)?;
     let _ =
         writeln!(t, "\n## Sphereflake, each level in fresh processes (512x512, 1 spp, {threads} threads; best of {} runs, highest peak)\n", a.runs);
-    let _ =
-        writeln!(t, "| level | NFF MB | parse s (MB/s) | build ms | render ms | whole process s | peak MB |");
-    let _ = writeln!(t, "|---|---:|---:|---:|---:|---:|---:|");
+    let _ = writeln!(
+        t,
+        "| level | NFF MB | parse s (MB/s) | prepare ms | of which BVH build ms | BVH SAH cost | render ms | whole process s | peak MB |"
+    );
+    let _ = writeln!(t, "|---|---:|---:|---:|---:|---:|---:|---:|---:|");
     for (level, f, whole) in [(2, small, small_whole), (a.flake_level, big, big_whole)] {
         let mb = f.bytes as f64 / 1e6;
         let _ = writeln!(
             t,
-            "| {level} | {mb:.1} | {:.3} ({:.0}) | {:.1} | {:.1} | {whole:.3} | {:.0} |",
+            "| {level} | {mb:.1} | {:.3} ({:.0}) | {:.1} | {:.1} | {:.2} | {:.1} | {whole:.3} | {:.0} |",
             f.parse,
             mb / f.parse,
             f.build * 1e3,
+            f.bvh * 1e3,
+            f.sah,
             f.render * 1e3,
             f.peak as f64 / 1e6
         );
@@ -237,7 +233,34 @@ fn report(a: &Args) -> Result<String> {
         big_whole / small_whole,
         big.render / small.render
     );
+    if let Some(shared) = &a.shared {
+        embree_build(&mut t, shared, &dir.path().join(format!("flake{}.nff", a.flake_level)), &big, threads)?;
+    }
     Ok(t)
+}
+
+/// Embree's build of the same sphereflake on as many threads, beside ours.
+fn embree_build(
+    t: &mut String,
+    shared: &Path,
+    file: &Path,
+    ours: &FlakeProcess,
+    threads: usize,
+) -> Result<()> {
+    nffkit_tools::eprintln_safe!("sphereflake: Embree's build on {threads} threads");
+    let file = file.to_str().context("temporary path is not UTF-8")?;
+    let n = threads.to_string();
+    let args =
+        [file, "--width", "16", "--height", "16", "--threads", &n, "--seconds", "0.01", "--repeats", "1"];
+    let out = capture(&shared.join("bench/embree-rays"), &[&args[..], &["--verbose"]].concat())?;
+    let (first, median) = bench::embree_build_ms(&out).context("embree-rays printed no build times")?;
+    let _ = writeln!(t, "\n| BVH build, {threads} threads | ms | SAH cost |");
+    let _ = writeln!(t, "|---|---:|---:|");
+    let _ = writeln!(t, "| ours (fresh process, best) | {:.1} | {:.2} |", ours.bvh * 1e3, ours.sah);
+    let _ = writeln!(t, "| Embree, first build (with start-up) | {first:.1} | - |");
+    let _ = writeln!(t, "| Embree, median of 5 rebuilds | {median:.1} | - |");
+    let _ = writeln!(t, "| our time / Embree's rebuild time | {:.2}x | |", ours.bvh * 1e3 / median);
+    Ok(())
 }
 
 /// `render --check` of mount_s7 as a whole process, beside `render

@@ -68,12 +68,13 @@ pub fn statistics(
     );
     let _ = writeln!(
         s,
-        "accelerator  {}: {} {}, {:.2} MB, built in {:.1} ms",
+        "accelerator  {}: {} {}, {:.2} MB, built in {:.1} ms{}",
         info.summary,
         info.nodes,
         info.unit,
         info.bytes as f64 / 1e6,
-        info.build_seconds * 1e3
+        info.build_seconds * 1e3,
+        info.sah_cost.map_or(String::new(), |c| format!(", SAH cost {c:.2}"))
     );
     s += &counters(c);
     let _ = writeln!(

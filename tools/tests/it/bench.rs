@@ -19,10 +19,17 @@ fn benchmark_prints_its_tables() {
         "| render --check mount_s7 (2.7 MB) |",
         "| render --version |",
         "| 2 | 0.0 |",
+        "| prepare ms | of which BVH build ms | BVH SAH cost |",
         "Level 2 against level 2: whole process",
     ] {
         assert!(stdout.contains(row), "no `{row}` in:\n{stdout}");
     }
+    // The level-2 row gives the BVH's build time and a SAH cost of at
+    // least the root's one step.
+    let level2 = stdout.lines().find(|l| l.starts_with("| 2 |")).unwrap_or_default();
+    let cells: Vec<&str> = level2.split('|').map(str::trim).collect();
+    let sah: f64 = cells.get(6).and_then(|c| c.parse().ok()).unwrap_or(0.0);
+    assert!(sah > 1.0 && sah < 100.0 && cells.get(5).is_some_and(|c| c.parse::<f64>().is_ok()), "{level2}");
     // Every row of the check table holds two times in milliseconds.
     let check = stdout.lines().find(|l| l.starts_with("| render --check")).unwrap_or_default();
     let times: Vec<f64> = check.split('|').filter_map(|c| c.trim().parse().ok()).collect();

@@ -227,6 +227,7 @@ impl Grid {
             summary: if self.mailbox { "uniform grid with mailboxes" } else { "uniform grid, no mailboxes" },
             unit: "cells",
             warning: self.coarsened.clone(),
+            sah_cost: None,
         }
     }
 

@@ -239,6 +239,9 @@ pub struct AccelInfo {
     /// What the user should know about how it was built (a grid made
     /// coarser than asked), if anything.
     pub warning: Option<String>,
+    /// The tree's cost by the surface-area heuristic (expected box steps
+    /// and primitive tests of a ray through the scene's box; BVH only).
+    pub sah_cost: Option<f64>,
 }
 
 impl Accel {
