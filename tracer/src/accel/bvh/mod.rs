@@ -7,13 +7,13 @@ mod build;
 mod packet;
 mod wide;
 
-use super::{AccelInfo, Intersector, Query, Tracer};
+use super::{test_prim, AccelInfo, Intersector, Query, Tracer};
 use crate::aabb::ENTRY_SLACK;
 use crate::geometry::{Geometry, Hit};
 use crate::math::RayQuery;
 use crate::packet::{LaneHits, RayPacket};
 use crate::simd::lanes::Mask;
-use crate::stats::PerKind;
+use crate::stats::Counters;
 use crate::stopwatch::Stopwatch;
 use packet::PacketEntry;
 use wide::{Entry, Node4, Ray4, STACK};
@@ -47,7 +47,7 @@ impl Bvh {
         Bvh { sah_cost: wide::sah_cost(&wide), wide, prims, build_seconds }
     }
 
-    /// Size and build time.
+    /// Size, build time and the tree's SAH cost.
     pub fn info(&self) -> AccelInfo {
         AccelInfo {
             build_seconds: self.build_seconds,
@@ -113,7 +113,7 @@ impl Bvh {
         t_max: f32,
         best: Option<Hit>,
         stack: &mut [Entry],
-        c: &mut crate::stats::Counters,
+        c: &mut Counters,
     ) -> Option<Hit> {
         let mut walk = SingleRay::<Q>::new(q, t_max, best);
         let stack = &mut stack[..STACK];
@@ -128,7 +128,7 @@ impl Bvh {
                         }
                     }
                 } else {
-                    walk.visits += 1;
+                    walk.counters.visits += 1;
                     let node = &self.wide[e.child as usize];
                     let (t, mut mask) = node.hit(&walk.ray, walk.box_limit);
                     if mask != 0 {
@@ -179,25 +179,21 @@ impl Bvh {
     }
 }
 
-/// One ray's walk through the tree: its splatted form, the best hit and
-/// the bounds it sets, and its counts, all locals the walk keeps in
-/// registers (a best hit read back through memory after every test stalls
-/// the loop on store forwarding); the counts reach the thread's counters
-/// once, at the end.
+/// One ray's walk through the tree: its splatted form, the best hit, the
+/// distance boxes are entered up to, and its counts, all locals of the
+/// walk; the counts reach the thread's counters once, at the end. (Reading
+/// the box limit back out of the best hit at every step, and counting
+/// straight into the thread's counters, made the same walk up to twice as
+/// slow in some callers.)
 struct SingleRay<'q, Q: Query> {
     ray: Ray4,
     q: &'q RayQuery,
     t_max: f32,
     best: Option<Hit>,
-    /// Boxes entered before this (the best hit's distance or the ray's
-    /// end, with [`ENTRY_SLACK`]).
+    /// Boxes entered before this: the best hit's distance or the ray's
+    /// end, with [`ENTRY_SLACK`].
     box_limit: f32,
-    /// Primitive hits accepted below this: as [`test_prim`](super::test_prim) bounds them,
-    /// the best hit's distance nudged up one ulp (so an equal-distance hit
-    /// with a lower id can win the tie), or the ray's end.
-    prim_limit: f32,
-    visits: u64,
-    tests: PerKind,
+    counters: Counters,
     _query: std::marker::PhantomData<Q>,
 }
 
@@ -208,49 +204,35 @@ impl<'q, Q: Query> SingleRay<'q, Q> {
             ray: Ray4::new(q),
             q,
             t_max,
-            best: None,
-            box_limit: t_max * ENTRY_SLACK,
-            prim_limit: t_max,
-            visits: 0,
-            tests: PerKind::default(),
+            best,
+            box_limit: 0.0,
+            counters: Counters::default(),
             _query: std::marker::PhantomData,
         };
-        if let Some(h) = best {
-            walk.take(h);
-        }
+        walk.bound();
         walk
     }
 
-    /// `h` becomes the best hit; nearest-hit bounds shrink to it.
+    /// The box limit for the best hit.
     #[inline(always)]
-    fn take(&mut self, h: Hit) {
-        self.best = Some(h);
-        if !Q::ANY_HIT {
-            self.box_limit = h.t * ENTRY_SLACK;
-            self.prim_limit = f32::from_bits(h.t.to_bits() + 1);
-        }
+    fn bound(&mut self) {
+        let end = if Q::ANY_HIT { self.t_max } else { self.best.map_or(self.t_max, |h| h.t) };
+        self.box_limit = end * ENTRY_SLACK;
     }
 
-    /// Test primitive `id`, as [`test_prim`](super::test_prim) does; true when an any-hit
-    /// walk is done.
+    /// Test primitive `id` by [`test_prim`]; true when an any-hit walk is
+    /// done.
     #[inline(always)]
     fn test(&mut self, geom: &Geometry, id: u32) -> bool {
-        self.tests[geom.locate(id).0] += 1;
-        let limit = if Q::ANY_HIT { self.t_max } else { self.prim_limit };
-        match geom.intersect(id, self.q, limit) {
-            Some(h) if Q::ANY_HIT || h.beats(&self.best) => {
-                self.take(h);
-                Q::ANY_HIT
-            }
-            _ => false,
-        }
+        let done = test_prim::<Q>(geom, id, self.q, &mut self.best, self.t_max, &mut self.counters);
+        self.bound();
+        done
     }
 
     /// The best hit, the counts added to `c`.
     #[inline(always)]
-    fn finish(self, c: &mut crate::stats::Counters) -> Option<Hit> {
-        c.visits += self.visits;
-        c.tests += self.tests;
+    fn finish(self, c: &mut Counters) -> Option<Hit> {
+        *c += self.counters;
         self.best
     }
 }

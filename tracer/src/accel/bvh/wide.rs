@@ -226,7 +226,6 @@ fn concat(parts: Vec<Part>) -> Vec<Node4> {
 /// printed beside the build time so a faster build is not a worse tree.
 pub(crate) fn sah_cost(nodes: &[Node4]) -> f64 {
     let Some(root) = nodes.first() else { return 0.0 };
-    let used = |n: &Node4, slot: usize| n.min[0][slot] <= n.max[0][slot];
     let area = |lo: [f32; 3], hi: [f32; 3]| -> f64 {
         let d = [0, 1, 2].map(|a| (hi[a] - lo[a]) as f64);
         d[0] * d[1] + d[1] * d[2] + d[2] * d[0]
@@ -235,7 +234,7 @@ pub(crate) fn sah_cost(nodes: &[Node4]) -> f64 {
         |n: &Node4, slot: usize| area([0, 1, 2].map(|a| n.min[a][slot]), [0, 1, 2].map(|a| n.max[a][slot]));
     // The root's box: the union of its children's (min and max are exact).
     let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-    for slot in (0..4).filter(|&s| used(root, s)) {
+    for slot in (0..4).filter(|&s| root.used(s)) {
         for a in 0..3 {
             lo[a] = lo[a].min(root.min[a][slot]);
             hi[a] = hi[a].max(root.max[a][slot]);
@@ -247,7 +246,7 @@ pub(crate) fn sah_cost(nodes: &[Node4]) -> f64 {
     }
     let mut cost = root_area; // the root is always entered
     for n in nodes {
-        for slot in (0..4).filter(|&s| used(n, s)) {
+        for slot in (0..4).filter(|&s| n.used(s)) {
             let steps = if n.count[slot] == 0 { 1.0 } else { n.count[slot] as f64 };
             cost += steps * slot_area(n, slot);
         }
@@ -259,9 +258,8 @@ impl Node4 {
     /// Entry distances of the ray into the four child boxes within
     /// `(t_min, t_max)`, and the mask of boxes hit. The same conservative
     /// slab test as [`Aabb::hit`], four boxes at a time.
-    /// The distances come back as an array: indexing a `Vec4` by a
-    /// variable slot compiles to a jump table, an indirect branch that
-    /// mispredicts on every other child.
+    /// The distances come back as an array: a `Vec4` indexed by a
+    /// variable slot compiles to a jump table.
     #[inline(always)]
     pub fn hit(&self, r: &Ray4, t_max: f32) -> ([f32; 4], u32) {
         let (nx, fx) = if r.neg[0] { (self.max[0], self.min[0]) } else { (self.min[0], self.max[0]) };
@@ -299,11 +297,11 @@ impl Node4 {
         let mut nearest = [f32::INFINITY; 4];
         let inf = s.splat(f32::INFINITY);
         for slot in 0..4 {
+            if !self.used(slot) {
+                continue;
+            }
             let lo = [self.min[0][slot], self.min[1][slot], self.min[2][slot]];
             let hi = [self.max[0][slot], self.max[1][slot], self.max[2][slot]];
-            if lo[0].partial_cmp(&hi[0]).is_none_or(|o| o.is_gt()) {
-                continue; // an unused slot
-            }
             let mut m: Mask = 0;
             let mut near_min = inf;
             for g in 0..LANES / V::W {
@@ -332,6 +330,12 @@ impl Node4 {
             }
         }
         (masks, nearest)
+    }
+
+    /// Whether child `slot` holds anything (an unused slot's box is empty).
+    #[inline(always)]
+    pub fn used(&self, slot: usize) -> bool {
+        self.min[0][slot] <= self.max[0][slot]
     }
 
     /// Child `slot` as a stack entry.
@@ -414,7 +418,7 @@ mod tests {
             while let Some(i) = stack.pop() {
                 let node = &nodes[i];
                 for slot in 0..4 {
-                    if node.min[0][slot] > node.max[0][slot] {
+                    if !node.used(slot) {
                         continue;
                     }
                     let (child, count) = (node.child[slot] as usize, node.count[slot] as usize);
