@@ -80,6 +80,13 @@ impl Camera {
         (self.width, self.height)
     }
 
+    /// The view's basis (forward, right, up) and the pixel's side on the
+    /// image plane at distance 1.
+    #[cfg(feature = "gpu")]
+    pub(crate) fn frame(&self) -> (Vec3A, Vec3A, Vec3A, f32) {
+        (self.forward, self.right, self.up, self.pixel)
+    }
+
     /// The ray through raster position `(x, y)` (pixel `(i, j)` spans
     /// `[i, i+1) × [j, j+1)`, `y` downwards), with `lens` a point on the unit
     /// disc (ignored by a pinhole). Returns the ray and its minimum distance

@@ -34,6 +34,12 @@ impl Face {
         })
     }
 
+    /// Width, height and the texels, rows top to bottom.
+    #[cfg(feature = "gpu")]
+    pub(crate) fn texels(&self) -> (u32, u32, &[[u8; 3]]) {
+        (self.width, self.height, &self.rgb)
+    }
+
     /// The texel at column `x` and row `y` counted from the bottom.
     fn texel_from_bottom(&self, x: u32, y: u32) -> Vec3A {
         let row = self.height - 1 - y.min(self.height - 1);
@@ -52,6 +58,12 @@ impl CubeMap {
     /// A cube map of six faces, in [`FACES`] order.
     pub fn new(faces: [Face; 6]) -> CubeMap {
         CubeMap { faces }
+    }
+
+    /// The six faces, in [`FACES`] order.
+    #[cfg(feature = "gpu")]
+    pub(crate) fn faces(&self) -> &[Face; 6] {
+        &self.faces
     }
 
     /// The colour seen in direction `d` (any length but zero).

@@ -113,6 +113,12 @@ impl Filter {
         (Vec2::new(x, y), if w < 0.0 { -1.0 } else { 1.0 })
     }
 
+    /// The tabulated CDF of |profile|: `TABLE + 1` values from 0 to 1.
+    #[cfg(feature = "gpu")]
+    pub(crate) fn cdf(&self) -> &[f32] {
+        &self.cdf
+    }
+
     fn sample_1d(&self, u: f32) -> f32 {
         // First bin whose upper CDF value exceeds u, then linear within it.
         let i = self.cdf.partition_point(|&c| c <= u).clamp(1, TABLE) - 1;

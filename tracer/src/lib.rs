@@ -28,6 +28,8 @@ pub mod film;
 pub mod filter;
 #[doc(hidden)]
 pub mod fuzzing;
+#[cfg(feature = "gpu")]
+pub mod gpu;
 pub mod light;
 pub mod prepare;
 pub mod probe;

@@ -122,6 +122,12 @@ impl Sampler {
         (Sampler { kind, spp: count, n, seed }, msg)
     }
 
+    /// The pattern's side n (strata per axis, rounded).
+    #[cfg(feature = "gpu")]
+    pub(crate) fn side(&self) -> u32 {
+        self.n
+    }
+
     /// Sample `index` (< spp) of 2D dimension `dim` for pixel `(px, py)`, in
     /// [0, 1)².
     #[inline]

@@ -190,6 +190,13 @@ pub struct RenderArgs {
     /// measure what packets save). The image does not change.
     #[arg(long)]
     pub no_packets: bool,
+    /// Where to trace: `cpu` (every core, SIMD packets) or `gpu` (compute
+    /// shaders through wgpu on Vulkan, Metal or DX12; `WGPU_ADAPTER_NAME`
+    /// picks an adapter by name, `WGPU_BACKEND` a backend). The same
+    /// samples, so the GPU's image matches the CPU's within floating-point
+    /// differences; the GPU always walks a BVH.
+    #[arg(long, value_enum, default_value_t = Device::Cpu)]
+    pub device: Device,
     /// Also write a heat map of the traversal work per pixel (primitive
     /// tests plus nodes or cells visited) to this PNG, with a colour bar.
     #[arg(long, value_name = "FILE")]
@@ -208,6 +215,15 @@ pub struct RenderArgs {
     /// write each part to .exr and join them with nffmerge.
     #[arg(long, value_name = "K/N", value_parser = tile_of, group = "part")]
     pub tile: Option<[u32; 2]>,
+}
+
+/// The processor that traces.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Device {
+    /// The CPU's cores.
+    Cpu,
+    /// A GPU, through wgpu.
+    Gpu,
 }
 
 /// Which part of the image to render, as the user gave it.
@@ -325,6 +341,8 @@ pub struct RenderConfig {
     pub notes: Vec<String>,
     /// Only a part of the image, for render farms.
     pub part: Option<PartSpec>,
+    /// Where to trace.
+    pub device: Device,
 }
 
 impl RenderArgs {
@@ -353,6 +371,14 @@ impl RenderArgs {
         let output_kind = ImageKind::from_path(&output)?;
         if self.spd && self.part().is_some() {
             bail!("--spd-stats traces pixel corners over the whole image; it takes no --crop, --pixel-bounds or --tile");
+        }
+        if self.device == Device::Gpu {
+            if self.spd {
+                bail!("--spd-stats counts the SPD procedure's rays on the CPU; it takes no --device gpu");
+            }
+            if self.aov_cost.is_some() {
+                bail!("--aov-cost counts the CPU's traversal work; it takes no --device gpu");
+            }
         }
         if let Some(cost) = &self.aov_cost {
             if ImageKind::from_path(cost)? != ImageKind::Png {
@@ -411,6 +437,7 @@ impl RenderArgs {
             warnings: self.warnings(),
             notes: note.into_iter().map(|m| format!("--spp: {m}")).collect(),
             part: self.part(),
+            device: self.device,
         })
     }
 

@@ -7,7 +7,7 @@ use super::scene_warnings::scene_warnings;
 use super::{check, environment, part, report, spd_published};
 use crate::gen::default_scene;
 use crate::outputs::Outputs;
-use crate::render::args::{Command, RenderArgs, RenderConfig};
+use crate::render::args::{Command, Device, RenderArgs, RenderConfig};
 use crate::{cli_util, eprint_safe, eprintln_safe, input, memory};
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -15,6 +15,7 @@ use nffkit_formats::image_io::{self, ImageKind};
 use nffkit_formats::nff::ParseOptions;
 use nffkit_formats::Dialect;
 use nffkit_tracer::film::cost_heatmap;
+use nffkit_tracer::gpu::{Gpu, GpuScene};
 use nffkit_tracer::prepare::prepare;
 use nffkit_tracer::render::{render, PixelWindow};
 use std::io::IsTerminal;
@@ -121,7 +122,16 @@ fn render_command(cfg: &mut RenderConfig) -> Result<()> {
             b.set_position(done as u64);
         }
     };
-    let out = render(&prepared, &settings, &tick);
+    let out = match cfg.device {
+        Device::Cpu => render(&prepared, &settings, &tick),
+        Device::Gpu => {
+            let gpu = Gpu::new()?;
+            if !cfg.quiet {
+                eprintln_safe!("note: rendering on {}", gpu.description());
+            }
+            GpuScene::new(&gpu, &prepared, &settings)?.render(&tick)?
+        }
+    };
     if let Some(b) = bar {
         b.finish_and_clear();
     }

@@ -19,6 +19,8 @@
 
 mod brute;
 mod bvh;
+#[cfg(feature = "gpu")]
+pub(crate) use bvh::Node4;
 mod grid;
 #[cfg(test)]
 mod tests;

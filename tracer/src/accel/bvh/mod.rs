@@ -16,7 +16,8 @@ use crate::simd::lanes::Mask;
 use crate::stats::Counters;
 use crate::stopwatch::Stopwatch;
 use packet::PacketEntry;
-use wide::{Entry, Node4, Ray4, STACK};
+pub(crate) use wide::Node4;
+use wide::{Entry, Ray4, STACK};
 
 /// Per-thread traversal stacks, allocated once: one for single rays, one
 /// for packets.
@@ -45,6 +46,12 @@ impl Bvh {
         let (wide, prims) = Node4::build(geom);
         let build_seconds = t0.seconds();
         Bvh { sah_cost: wide::sah_cost(&wide), wide, prims, build_seconds }
+    }
+
+    /// The 4-wide nodes, depth first (node 0 is the root), and the
+    /// primitive ids in the order leaves index them.
+    pub(crate) fn nodes(&self) -> (&[Node4], &[u32]) {
+        (&self.wide, &self.prims)
     }
 
     /// Size, build time and the tree's SAH cost.

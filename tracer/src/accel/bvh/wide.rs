@@ -24,10 +24,14 @@ use rayon::prelude::*;
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[repr(C, align(64))]
 pub(crate) struct Node4 {
-    min: [Vec4; 3],
-    max: [Vec4; 3],
-    child: [u32; 4],
-    count: [u32; 4],
+    /// Box minima per axis, one lane per child slot.
+    pub(crate) min: [Vec4; 3],
+    /// Box maxima per axis.
+    pub(crate) max: [Vec4; 3],
+    /// Node index or first primitive per slot.
+    pub(crate) child: [u32; 4],
+    /// 0 for a node, else the leaf's primitive count.
+    pub(crate) count: [u32; 4],
 }
 
 const _: () = assert!(std::mem::size_of::<Node4>() == 128);

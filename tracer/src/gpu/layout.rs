@@ -1,0 +1,269 @@
+//! The scene in the shaders' layout (`shaders/scene.wgsl` declares the
+//! same structures): the BVH's 4-wide nodes as they are (128 bytes, boxes
+//! in structure-of-arrays form), the primitives in one array of `vec4`s
+//! per kind after kind, per-primitive data, and the small tables
+//! (materials, lights, the filter's CDF) in another. Building these is
+//! plain CPU work, tested without a GPU.
+
+use crate::accel::{Accel, Bvh, Node4};
+use crate::filter::Filter;
+use crate::geometry::Cull;
+use crate::light::LightShape;
+use crate::prepare::RenderScene;
+use crate::render::RenderSettings;
+use crate::sampling::SamplerKind;
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3A;
+use std::borrow::Cow;
+
+/// `Params` of `scene.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub(crate) struct Params {
+    pub eye: [f32; 4],
+    pub forward: [f32; 4],
+    pub right: [f32; 4],
+    pub up: [f32; 4],
+    pub lens: [f32; 4],
+    pub background: [f32; 4],
+    pub image: [u32; 4],
+    pub window: [u32; 4],
+    pub sampler: [u32; 4],
+    pub render: [u32; 4],
+    pub shade: [f32; 4],
+    pub counts: [u32; 4],
+    pub ids: [u32; 4],
+    pub shape_at: [u32; 4],
+    pub table_at: [u32; 4],
+    pub faces: [[u32; 4]; 6],
+}
+
+/// `Node` of `scene.wgsl`: a [`Node4`] with its unused slots marked.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub(crate) struct GpuNode {
+    lo: [[f32; 4]; 3],
+    hi: [[f32; 4]; 3],
+    child: [u32; 4],
+    count: [u32; 4],
+}
+
+/// A slot's count when the slot is empty (`UNUSED` in the shaders).
+pub(crate) const UNUSED: u32 = u32::MAX;
+
+/// Side of the shaders' workgroups (8 x 8 invocations, one per pixel).
+pub(crate) const GROUP: u32 = 8;
+
+/// Counter slots per dispatch (`COUNTERS` in the shaders).
+pub(crate) const COUNTERS: usize = 8;
+
+impl GpuNode {
+    fn new(n: &Node4) -> GpuNode {
+        let mut g = GpuNode {
+            lo: [n.min[0].to_array(), n.min[1].to_array(), n.min[2].to_array()],
+            hi: [n.max[0].to_array(), n.max[1].to_array(), n.max[2].to_array()],
+            child: n.child,
+            count: n.count,
+        };
+        // Empty slots carry infinite boxes on the CPU; here they are
+        // marked and zeroed, so no infinity reaches the GPU's arithmetic.
+        for slot in 0..4 {
+            if !n.used(slot) {
+                g.count[slot] = UNUSED;
+                for a in 0..3 {
+                    g.lo[a][slot] = 0.0;
+                    g.hi[a][slot] = 0.0;
+                }
+            }
+        }
+        g
+    }
+}
+
+/// Everything the shaders read, ready to upload.
+pub(crate) struct SceneData {
+    pub nodes: Vec<GpuNode>,
+    pub leaf_ids: Vec<u32>,
+    pub shapes: Vec<[f32; 4]>,
+    pub info: Vec<[u32; 4]>,
+    pub tables: Vec<[f32; 4]>,
+    pub env: Vec<u32>,
+    /// The template of the uniform block: everything but the window and
+    /// the band, which each dispatch sets.
+    pub params: Params,
+    /// Levels of the tree (a root alone is 1): the walk's stack holds three
+    /// entries per level.
+    pub depth: u32,
+}
+
+fn v4(v: Vec3A, w: f32) -> [f32; 4] {
+    [v.x, v.y, v.z, w]
+}
+
+/// The code of a sampler kind in `sampling.wgsl`'s `sample_of`.
+pub(crate) fn sampler_code(kind: SamplerKind) -> u32 {
+    match kind {
+        SamplerKind::Random => 0,
+        SamplerKind::Regular => 1,
+        SamplerKind::Jittered => 2,
+        SamplerKind::NRooks => 3,
+        SamplerKind::MultiJittered => 4,
+        SamplerKind::CorrelatedMultiJittered => 5,
+        SamplerKind::Hammersley => 6,
+        SamplerKind::Sobol => 7,
+    }
+}
+
+/// The scene's BVH: the one it was prepared with, or one built now when it
+/// was prepared with another accelerator (the GPU walks only BVHs).
+fn bvh(scene: &RenderScene) -> Cow<'_, Bvh> {
+    match &scene.accel {
+        Accel::Bvh(b) => Cow::Borrowed(b),
+        _ => Cow::Owned(Bvh::build(&scene.geometry)),
+    }
+}
+
+/// Levels of a depth-first node array (children after their parent).
+fn tree_depth(nodes: &[Node4]) -> u32 {
+    let mut level = vec![0u32; nodes.len()];
+    let mut deepest = 0;
+    for i in 0..nodes.len() {
+        let l = if i == 0 { 1 } else { level[i] };
+        level[i] = l;
+        deepest = deepest.max(l);
+        for slot in 0..4 {
+            if nodes[i].used(slot) && nodes[i].count[slot] == 0 {
+                level[nodes[i].child[slot] as usize] = l + 1;
+            }
+        }
+    }
+    deepest
+}
+
+impl SceneData {
+    /// Lay `scene` out for the shaders, rendered with `settings`.
+    pub fn new(scene: &RenderScene, settings: &RenderSettings) -> SceneData {
+        let g = &scene.geometry;
+        let bvh = bvh(scene);
+        let (wide, prims) = bvh.nodes();
+        let nodes: Vec<GpuNode> = wide.iter().map(GpuNode::new).collect();
+        let mut shapes: Vec<[f32; 4]> = g.spheres.iter().map(|s| v4(s.center, s.radius)).collect();
+        let tri_at = shapes.len();
+        shapes.extend(g.triangles.iter().flat_map(|t| t.v.map(|v| v4(v, 0.0))));
+        let cone_at = shapes.len();
+        shapes.extend(
+            g.cones.iter().flat_map(|c| [v4(c.base, c.height), v4(c.axis, c.r0), [c.slope, 0.0, 0.0, 0.0]]),
+        );
+        let plane_at = shapes.len();
+        shapes.extend(g.planes.iter().flat_map(|p| [v4(p.point, 0.0), v4(p.n, 0.0)]));
+        let patch_at = shapes.len();
+        shapes.extend(g.patch_normals.iter().flat_map(|n| n.map(|v| v4(v, 0.0))));
+        let info = g
+            .info
+            .iter()
+            .map(|i| {
+                let cull = match i.cull {
+                    Cull::None => 0,
+                    Cull::Back => 1,
+                    Cull::Front => 2,
+                };
+                [i.material, i.patch().unwrap_or(UNUSED), cull, 0]
+            })
+            .collect();
+
+        let mut tables: Vec<[f32; 4]> = Vec::new();
+        for m in &scene.materials {
+            tables.push(v4(m.color, m.kd));
+            tables.push(v4(m.specular, m.ks));
+            tables.push([m.shine, m.t, m.ior, if m.fresnel { 1.0 } else { 0.0 }]);
+        }
+        let light_at = tables.len();
+        for l in &scene.lights {
+            let (u, v) = l.rect.map_or((Vec3A::ZERO, Vec3A::ZERO), |r| (r.u, r.v));
+            tables.push(v4(l.position, if l.rect.is_some() { 1.0 } else { 0.0 }));
+            tables.push(v4(l.intensity, 0.0));
+            tables.push(v4(u, 0.0));
+            tables.push(v4(v, 0.0));
+        }
+        let cdf_at = tables.len();
+        let filter = Filter::new(settings.filter);
+        tables.extend(filter.cdf().chunks(4).map(|c| {
+            let mut q = [0.0; 4];
+            q[..c.len()].copy_from_slice(c);
+            q
+        }));
+
+        let mut env = Vec::new();
+        let mut faces = [[0u32; 4]; 6];
+        if let Some(map) = &scene.environment {
+            for (f, face) in faces.iter_mut().zip(map.faces()) {
+                let (w, h, rgb) = face.texels();
+                *f = [w, h, env.len() as u32, 0];
+                env.extend(rgb.iter().map(|&[r, g, b]| r as u32 | (g as u32) << 8 | (b as u32) << 16));
+            }
+        }
+
+        let cam = &scene.camera;
+        let (forward, right, up, pixel) = cam.frame();
+        let (w, h) = cam.resolution();
+        let s = &settings.sampler;
+        let count = |k| g.count(k) as u32;
+        use crate::geometry::Kind;
+        let tri_start = count(Kind::Sphere);
+        let cone_start = tri_start + count(Kind::Triangle);
+        let plane_start = cone_start + count(Kind::Cone);
+        let params = Params {
+            eye: v4(cam.eye, 0.0),
+            forward: v4(forward, 0.0),
+            right: v4(right, 0.0),
+            up: v4(up, 0.0),
+            lens: [pixel, cam.aperture, cam.focus, cam.hither],
+            background: v4(scene.background, scene.ambient),
+            image: [w, h, 0, 0],
+            window: [w, h, 0, h],
+            sampler: [sampler_code(s.kind), s.spp, s.side(), s.seed],
+            render: [
+                settings.pixel_centre_only(cam) as u32,
+                filter_code(settings),
+                settings.shade.max_depth.max(1),
+                0,
+            ],
+            shade: [
+                settings.shade.light_size,
+                match settings.shade.light_shape {
+                    LightShape::Square => 0.0,
+                    LightShape::Disk => 1.0,
+                },
+                settings.shade.min_weight,
+                1.0,
+            ],
+            counts: [scene.lights.len() as u32, g.any_cull as u32, 0, 0],
+            ids: [tri_start, cone_start, plane_start, g.len() as u32],
+            shape_at: [tri_at as u32, cone_at as u32, plane_at as u32, patch_at as u32],
+            table_at: [0, light_at as u32, cdf_at as u32, scene.environment.is_some() as u32],
+            faces,
+        };
+        SceneData {
+            depth: tree_depth(wide),
+            nodes,
+            leaf_ids: prims.to_vec(),
+            shapes,
+            info,
+            tables,
+            env,
+            params,
+        }
+    }
+}
+
+/// The filter's code in `sampling.wgsl` (`FilterKind` in declaration
+/// order).
+fn filter_code(settings: &RenderSettings) -> u32 {
+    use crate::filter::FilterKind;
+    match settings.filter {
+        FilterKind::Box => 0,
+        FilterKind::Tent => 1,
+        FilterKind::Gaussian => 2,
+        FilterKind::Mitchell => 3,
+    }
+}
