@@ -85,6 +85,61 @@ pub fn flip(reference: &RgbImage, test: &RgbImage) -> Flip {
     Flip { mean, error_map }
 }
 
+/// How closely two renders of one scene agree (the GPU's against the
+/// CPU's): FLIP's mean, and the 8-bit pixels off by more than 2/255 in
+/// any channel.
+#[derive(Debug, Clone, Copy)]
+pub struct Agreement {
+    /// Mean FLIP error.
+    pub flip: f64,
+    /// Pixels off by more than 2/255.
+    pub off: usize,
+    /// Pixels in all.
+    pub pixels: usize,
+    /// The largest difference of a channel, in 1/255.
+    pub max_off: u8,
+}
+
+impl Agreement {
+    /// The share of pixels off by more than 2/255.
+    pub fn off_share(&self) -> f64 {
+        self.off as f64 / self.pixels.max(1) as f64
+    }
+
+    /// Whether the images agree within float differences: mean FLIP at
+    /// most 0.005 and no more than 0.1% of pixels off by more than 2/255.
+    pub fn within_float(&self) -> bool {
+        self.flip <= 0.005 && self.off_share() <= 0.001
+    }
+}
+
+impl std::fmt::Display for Agreement {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        write!(
+            f,
+            "mean FLIP {:.5}, {} of {} pixels ({:.3}%) off by more than 2/255 (at most {}/255)",
+            self.flip,
+            self.off,
+            self.pixels,
+            100.0 * self.off_share(),
+            self.max_off
+        )
+    }
+}
+
+/// [`Agreement`] of `test` with `reference` (same size).
+pub fn agreement(reference: &RgbImage, test: &RgbImage) -> Agreement {
+    let (a, b) = (reference.to_rgb8(false), test.to_rgb8(false));
+    let mut off = 0;
+    let mut max_off = 0u8;
+    for (p, q) in a.chunks_exact(3).zip(b.chunks_exact(3)) {
+        let d = (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap_or(0);
+        max_off = max_off.max(d);
+        off += (d > 2) as usize;
+    }
+    Agreement { flip: flip(reference, test).mean, off, pixels: a.len() / 3, max_off }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

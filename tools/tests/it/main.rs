@@ -11,6 +11,7 @@ mod convert;
 mod farm;
 mod files;
 mod generators;
+mod gpu;
 mod mesh2nff;
 mod mesh_looks;
 mod p3f;

@@ -267,3 +267,65 @@ fn filter_code(settings: &RenderSettings) -> u32 {
         FilterKind::Mitchell => 3,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::prepare::{prepare, PrepareOptions};
+
+    fn scene(src: &str) -> RenderScene {
+        let parsed = nffkit_formats::nff::parse(src.as_bytes(), &Default::default()).unwrap();
+        prepare(&parsed.scene, &PrepareOptions { width: Some(8), height: Some(8), ..Default::default() }).unwrap()
+    }
+
+    const VIEW: &str = "v\nfrom 0 0 -10\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 8 8\n";
+
+    #[test]
+    fn every_kind_lands_at_its_offsets() {
+        let src = format!(
+            "{VIEW}l 1 2 3\nf 1 0 0 1 0 0 0 0\ns 0 0 0 1\ns 3 0 0 0.5\n\
+             f 0 1 0 1 0 0 0 0\np 3\n0 0 0\n1 0 0\n0 1 0\nc\n0 0 0 1\n0 2 0 0.5\npp 3\n0 0 1 0 0 1\n1 0 1 0 0 1\n0 1 1 0 0 1\n"
+        );
+        let s = scene(&src);
+        let d = SceneData::new(&s, &RenderSettings::default());
+        let p = d.params;
+        // Two spheres, two triangles, one cone, no planes.
+        assert_eq!(p.ids, [2, 4, 5, 5]);
+        assert_eq!(p.shape_at, [2, 2 + 6, 2 + 6 + 3, 2 + 6 + 3]);
+        assert_eq!(d.shapes[1], [3.0, 0.0, 0.0, 0.5]);
+        // The patch triangle's normals follow the planes, indexed by info.
+        let patched = d.info.iter().filter(|i| i[1] != UNUSED).count();
+        assert_eq!(patched, 1);
+        assert_eq!(d.shapes.len(), 2 + 6 + 3 + 3);
+        // Materials: three vec4s each, then the light, then the CDF.
+        assert_eq!(p.table_at[1] as usize, 3 * s.materials.len());
+        assert_eq!(d.tables[p.table_at[1] as usize], [1.0, 2.0, 3.0, 0.0]);
+        assert_eq!(d.tables.len() - p.table_at[2] as usize, 257usize.div_ceil(4));
+    }
+
+    #[test]
+    fn empty_slots_are_marked_and_the_depth_counted() {
+        let mut src = String::from(VIEW);
+        src.push_str("f 1 1 1 1 0 0 0 0\n");
+        for i in 0..200 {
+            src.push_str(&format!("s {} {} 0 0.1\n", i % 20, i / 20));
+        }
+        let s = scene(&src);
+        let d = SceneData::new(&s, &RenderSettings::default());
+        let Accel::Bvh(b) = &s.accel else { panic!("a BVH") };
+        let (wide, _) = b.nodes();
+        assert_eq!(d.nodes.len(), wide.len());
+        for (g, n) in d.nodes.iter().zip(wide) {
+            for slot in 0..4 {
+                assert_eq!(g.count[slot] == UNUSED, !n.used(slot));
+                if n.used(slot) {
+                    assert_eq!(g.lo[0][slot], n.min[0][slot]);
+                }
+            }
+        }
+        assert!(d.depth >= 2 && d.depth <= 8, "{}", d.depth);
+        // A lone leaf is one level.
+        let one = scene(&format!("{VIEW}f 1 1 1 1 0 0 0 0\ns 0 0 0 1\n"));
+        assert_eq!(SceneData::new(&one, &RenderSettings::default()).depth, 1);
+    }
+}

@@ -423,14 +423,17 @@ const MODE_RENDER: u32 = 0;
 const MODE_EYE_HITS: u32 = 1;
 
 /// The shaders, concatenated after the constants that size their stacks
-/// for this scene and carry the CPU's rounding bounds bit for bit.
+/// for this scene (three BVH entries per level, 2 (depth − 1) + 1 pending
+/// rays) and carry the CPU's rounding bounds bit for bit.
 fn shader_source(tree_depth: u32, max_depth: u32, f64: bool) -> String {
     let bits = |x: f32| format!("0x{:08x}u", x.to_bits());
     let prelude = format!(
         "const BVH_STACK: u32 = {}u;\nconst RAY_STACK: u32 = {}u;\n\
          const GAMMA2_BITS: u32 = {};\nconst GAMMA3_BITS: u32 = {};\nconst GAMMA5_BITS: u32 = {};\n\
          const SLAB_WIDEN_BITS: u32 = {};\nconst ENTRY_SLACK_BITS: u32 = {};\n",
-        (3 * tree_depth).max(4),
+        // Rounded up, so that most scenes share one shader (and drivers'
+        // shader caches).
+        (3 * tree_depth).next_multiple_of(32),
         2 * max_depth.max(1) - 1,
         bits(gamma(2)),
         bits(gamma(3)),
@@ -448,4 +451,36 @@ fn shader_source(tree_depth: u32, max_depth: u32, f64: bool) -> String {
         include_str!("shaders/whitted.wgsl"),
     ]
     .join("\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn validate(source: &str, caps: naga::valid::Capabilities) -> Result<(), String> {
+        let module = naga::front::wgsl::parse_str(source).map_err(|e| e.emit_to_string(source))?;
+        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), caps)
+            .validate(&module)
+            .map(|_| ())
+            .map_err(|e| e.emit_to_string(source))
+    }
+
+    /// The assembled shaders parse and validate (as wgpu would before
+    /// running them) in both precisions, with no GPU needed; the f32
+    /// variant needs no f64.
+    #[test]
+    fn shaders_validate_in_both_precisions() {
+        let none = naga::valid::Capabilities::empty();
+        validate(&shader_source(12, 6, false), none).unwrap();
+        validate(&shader_source(12, 6, true), naga::valid::Capabilities::FLOAT64).unwrap();
+        assert!(validate(&shader_source(12, 6, true), none).is_err(), "the f64 variant needs the capability");
+    }
+
+    #[test]
+    fn stacks_are_sized_for_the_tree_and_the_depth() {
+        let source = shader_source(21, 6, false);
+        assert!(source.contains("const BVH_STACK: u32 = 64u;"), "3 x 21 rounded up to 32s");
+        assert!(source.contains("const RAY_STACK: u32 = 11u;"), "2 (6 - 1) + 1");
+        assert!(shader_source(1, 1, false).contains("const RAY_STACK: u32 = 1u;"));
+    }
 }
