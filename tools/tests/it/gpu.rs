@@ -52,7 +52,12 @@ fn render(dir: &Path, scene: &Path, device: &str, args: &[&str]) -> nffkit_forma
         .args(args)
         .output()
         .unwrap();
-    assert!(o.status.success(), "{} {args:?} on the {device}: {}", scene.display(), String::from_utf8_lossy(&o.stderr));
+    assert!(
+        o.status.success(),
+        "{} {args:?} on the {device}: {}",
+        scene.display(),
+        String::from_utf8_lossy(&o.stderr)
+    );
     read_png(&out).unwrap()
 }
 
@@ -78,10 +83,10 @@ fn every_spd_scene_renders_on_the_gpu_as_on_the_cpu() {
         .collect();
     files.sort();
     assert!(files.len() >= 14, "the SPD scenes: {files:?}");
+    // 16 spp smaller: lavapipe traces on the CPU, one pixel per workgroup.
     for file in &files {
-        for spp in ["1", "16"] {
-            agrees(file, &["--width", "64", "--height", "64", "--spp", spp]);
-        }
+        agrees(file, &["--width", "64", "--height", "64", "--spp", "1"]);
+        agrees(file, &["--width", "32", "--height", "32", "--spp", "16"]);
     }
 }
 
@@ -142,10 +147,8 @@ fn a_part_of_the_image_is_those_pixels_of_the_whole() {
 fn what_the_gpu_does_not_do_is_refused_before_work() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("x.png");
-    for (flags, says) in [
-        (&["--aov-cost", "c.png"][..], "--aov-cost"),
-        (&["--spd-stats"][..], "--spd-stats"),
-    ] {
+    for (flags, says) in [(&["--aov-cost", "c.png"][..], "--aov-cost"), (&["--spd-stats"][..], "--spd-stats")]
+    {
         let o = Command::new(RENDER)
             .current_dir(dir.path())
             .args(["--device", "gpu", "-o"])

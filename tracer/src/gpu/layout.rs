@@ -51,9 +51,6 @@ pub(crate) struct GpuNode {
 /// A slot's count when the slot is empty (`UNUSED` in the shaders).
 pub(crate) const UNUSED: u32 = u32::MAX;
 
-/// Side of the shaders' workgroups (8 x 8 invocations, one per pixel).
-pub(crate) const GROUP: u32 = 8;
-
 /// Counter slots per dispatch (`COUNTERS` in the shaders).
 pub(crate) const COUNTERS: usize = 8;
 
@@ -275,7 +272,8 @@ mod tests {
 
     fn scene(src: &str) -> RenderScene {
         let parsed = nffkit_formats::nff::parse(src.as_bytes(), &Default::default()).unwrap();
-        prepare(&parsed.scene, &PrepareOptions { width: Some(8), height: Some(8), ..Default::default() }).unwrap()
+        prepare(&parsed.scene, &PrepareOptions { width: Some(8), height: Some(8), ..Default::default() })
+            .unwrap()
     }
 
     const VIEW: &str = "v\nfrom 0 0 -10\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 8 8\n";

@@ -29,7 +29,7 @@ use crate::render::{PixelWindow, Progress, RenderOutput, RenderSettings};
 use crate::stats::Counters;
 use crate::stopwatch::Stopwatch;
 use glam::Vec3A;
-use layout::{Params, SceneData, COUNTERS, GROUP};
+use layout::{Params, SceneData, COUNTERS};
 use std::sync::{Arc, Mutex};
 use wgpu::util::DeviceExt;
 
@@ -169,6 +169,8 @@ pub struct GpuScene<'g> {
     film: wgpu::Buffer,
     counters: wgpu::Buffer,
     window: PixelWindow,
+    /// Side of a workgroup (`GROUP_SIDE` in the shaders).
+    group: u32,
 }
 
 /// Pixel samples a band of rows holds at most: few enough that one
@@ -280,12 +282,21 @@ impl<'g> GpuScene<'g> {
                 shader_source(data.depth, settings.shade.max_depth, gpu.f64).into(),
             ),
         });
+        // One pixel per workgroup on a CPU adapter: lavapipe 22.3 (Debian
+        // 12's) gives some pixels of an 8 x 8 group wrong colours where
+        // their ray trees differ (a single-pixel render of the same pixel is
+        // right). Its lanes are few, so little is lost.
+        let group = if gpu.info.device_type == wgpu::DeviceType::Cpu { 1 } else { 8 };
+        let constants = [("GROUP_SIDE", group as f64)];
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("whitted"),
             layout: None,
             module: &module,
             entry_point: Some("main"),
-            compilation_options: Default::default(),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: &constants,
+                ..Default::default()
+            },
             cache: None,
         });
         let buffers = [&uniform, &nodes, &leaf_ids, &shapes, &info, &tables, &env, &film, &counters];
@@ -299,7 +310,17 @@ impl<'g> GpuScene<'g> {
             layout: &pipeline.get_bind_group_layout(0),
             entries: &entries,
         });
-        Ok(GpuScene { gpu, params: data.params, pipeline, bind_group, uniform, film, counters, window })
+        Ok(GpuScene {
+            gpu,
+            params: data.params,
+            pipeline,
+            bind_group,
+            uniform,
+            film,
+            counters,
+            window,
+            group,
+        })
     }
 
     /// Render the image (the window the settings asked for).
@@ -355,7 +376,7 @@ impl<'g> GpuScene<'g> {
                 let mut pass = encoder.begin_compute_pass(&Default::default());
                 pass.set_pipeline(&self.pipeline);
                 pass.set_bind_group(0, &self.bind_group, &[]);
-                pass.dispatch_workgroups(w.div_ceil(GROUP), rows.div_ceil(GROUP), 1);
+                pass.dispatch_workgroups(w.div_ceil(self.group), rows.div_ceil(self.group), 1);
             }
             queue.submit([encoder.finish()]);
             self.wait()?;

@@ -12,8 +12,6 @@ struct Entry {
     t: f32,
 }
 
-var<private> stack: array<Entry, BVH_STACK>;
-
 // `Node4::hit` for one slot: where the ray enters the box, or infinity.
 fn enter_box(node: Node, slot: u32, q: Query, t_max: f32) -> f32 {
     let lo = vec3<f32>(node.lo[0][slot], node.lo[1][slot], node.lo[2][slot]);
@@ -45,12 +43,14 @@ fn test_nearest(id: u32, q: Query, best: ptr<function, Hit>, t_max: f32) {
 }
 
 fn nearest(q: Query, t_max: f32) -> Hit {
+    var stack: array<Entry, BVH_STACK>;
     var best = no_hit();
     if P.ids.z > 0u {
         var box_limit = t_max * bitcast<f32>(ENTRY_SLACK_BITS);
         var e = Entry(0u, 0u, q.t_min);
         var sp = 0u;
         loop {
+            var descend = false;
             if e.t <= box_limit {
                 if e.count > 0u {
                     for (var i = e.child; i < e.child + e.count; i++) {
@@ -67,22 +67,21 @@ fn nearest(q: Query, t_max: f32) -> Hit {
                     var slots: array<u32, 4>;
                     var n = 0u;
                     for (var slot = 0u; slot < 4u; slot++) {
-                        if node.count[slot] == UNUSED {
-                            continue;
+                        var t = infinity();
+                        if node.count[slot] != UNUSED {
+                            t = enter_box(node, slot, q, box_limit);
                         }
-                        let t = enter_box(node, slot, q, box_limit);
-                        if t == infinity() {
-                            continue;
+                        if t != infinity() {
+                            var k = n;
+                            while k > 0u && ts[k - 1u] < t {
+                                ts[k] = ts[k - 1u];
+                                slots[k] = slots[k - 1u];
+                                k--;
+                            }
+                            ts[k] = t;
+                            slots[k] = slot;
+                            n++;
                         }
-                        var k = n;
-                        while k > 0u && ts[k - 1u] < t {
-                            ts[k] = ts[k - 1u];
-                            slots[k] = slots[k - 1u];
-                            k--;
-                        }
-                        ts[k] = t;
-                        slots[k] = slot;
-                        n++;
                     }
                     if n > 0u {
                         for (var i = 0u; i + 1u < n; i++) {
@@ -91,15 +90,17 @@ fn nearest(q: Query, t_max: f32) -> Hit {
                         }
                         let last = slots[n - 1u];
                         e = Entry(node.child[last], node.count[last], ts[n - 1u]);
-                        continue;
+                        descend = true;
                     }
                 }
             }
-            if sp == 0u {
-                break;
+            if !descend {
+                if sp == 0u {
+                    break;
+                }
+                sp--;
+                e = stack[sp];
             }
-            sp--;
-            e = stack[sp];
         }
     }
     for (var id = P.ids.z; id < P.ids.w; id++) {
@@ -120,9 +121,11 @@ fn occluded(q: Query, t_max: f32) -> bool {
         return false;
     }
     let box_limit = t_max * bitcast<f32>(ENTRY_SLACK_BITS);
+    var stack: array<Entry, BVH_STACK>;
     var e = Entry(0u, 0u, q.t_min);
     var sp = 0u;
     loop {
+        var descend = false;
         if e.count > 0u {
             for (var i = e.child; i < e.child + e.count; i++) {
                 if intersect(leaf_ids[i], q, t_max).t < infinity() {
@@ -133,25 +136,26 @@ fn occluded(q: Query, t_max: f32) -> bool {
             let node = nodes[e.child];
             var next = UNUSED;
             for (var slot = 0u; slot < 4u; slot++) {
-                if node.count[slot] == UNUSED || enter_box(node, slot, q, box_limit) == infinity() {
-                    continue;
+                if node.count[slot] != UNUSED && enter_box(node, slot, q, box_limit) != infinity() {
+                    if next != UNUSED {
+                        stack[sp] = Entry(node.child[next], node.count[next], 0.0);
+                        sp++;
+                    }
+                    next = slot;
                 }
-                if next != UNUSED {
-                    stack[sp] = Entry(node.child[next], node.count[next], 0.0);
-                    sp++;
-                }
-                next = slot;
             }
             if next != UNUSED {
                 e = Entry(node.child[next], node.count[next], 0.0);
-                continue;
+                descend = true;
             }
         }
-        if sp == 0u {
-            break;
+        if !descend {
+            if sp == 0u {
+                break;
+            }
+            sp--;
+            e = stack[sp];
         }
-        sp--;
-        e = stack[sp];
     }
     return false;
 }

@@ -63,7 +63,9 @@ fn unit(v: vec3<f32>) -> vec3<f32> {
 }
 
 fn make_query(o: vec3<f32>, d: vec3<f32>, t_min: f32) -> Query {
-    let inv = clamp(vec3<f32>(1.0) / d, vec3<f32>(-1e30), vec3<f32>(1e30));
+    // Rounded as the CPU's division: the box test's slack covers the
+    // rounding of exact operations, not of an approximate reciprocal.
+    let inv = clamp(vec3<f32>(div(1.0, d.x), div(1.0, d.y), div(1.0, d.z)), vec3<f32>(-1e30), vec3<f32>(1e30));
     let a = abs(d);
     var kz = 2u;
     if a.x >= a.y && a.x >= a.z {

@@ -222,12 +222,15 @@ struct Pending {
     depth: u32,
 }
 
-var<private> rays: array<Pending, RAY_STACK>;
-var<private> ray_count: u32;
+// The rays waiting to be traced, and how many.
+struct RayStack {
+    rays: array<Pending, RAY_STACK>,
+    count: u32,
+}
 
-fn push(o: vec3<f32>, d: vec3<f32>, weight: f32, share: vec3<f32>, depth: u32) {
-    rays[ray_count] = Pending(o, 0.0, d, weight, share, depth);
-    ray_count++;
+fn push(s: ptr<function, RayStack>, o: vec3<f32>, d: vec3<f32>, weight: f32, share: vec3<f32>, depth: u32) {
+    (*s).rays[(*s).count] = Pending(o, 0.0, d, weight, share, depth);
+    (*s).count++;
 }
 
 // `mirror`: by the shading normal, or the geometric one where an
@@ -243,46 +246,51 @@ fn mirror_dir(d: vec3<f32>, ns: vec3<f32>, ng: vec3<f32>) -> vec3<f32> {
 // `Whitted::li`, without recursion: the radiance along an eye ray.
 fn radiance(eye: EyeRay, id: SampleId) -> vec3<f32> {
     var color = vec3<f32>(0.0);
-    ray_count = 0u;
-    rays[0] = Pending(eye.o, eye.t_min, eye.d, 1.0, vec3<f32>(1.0), 1u);
-    ray_count = 1u;
-    loop {
-        if ray_count == 0u {
-            break;
-        }
-        ray_count--;
-        let r = rays[ray_count];
+    var pending: RayStack;
+    pending.rays[0] = Pending(eye.o, eye.t_min, eye.d, 1.0, vec3<f32>(1.0), 1u);
+    pending.count = 1u;
+    // (No `continue` in this loop: lavapipe 22.3 mixes up the lanes of a
+    // workgroup that continue at different iterations.)
+    while pending.count > 0u {
+        pending.count--;
+        let r = pending.rays[pending.count];
         let q = make_query(r.o, r.d, r.t_min);
         let hit = nearest(q, infinity());
         if hit.prim == UNUSED {
             color += r.share * miss(r.d);
-            continue;
+        } else {
+            color += r.share * shade(&pending, q, hit, r, id);
         }
-        if r.depth == 1u {
-            local_counts[COUNT_EYE_HITS]++;
-        }
-        let s = surface(hit, q);
-        let m = material(info[hit.prim].x);
-        let entering = dot3(s.ng, r.d) < 0.0;
-        let flip = select(-1.0, 1.0, entering);
-        let ng = s.ng * flip;
-        let ns = s.ns * flip;
-        var local = P.background.w * m.kd * m.color;
-        for (var k = 0u; k < P.counts.x; k++) {
-            local += direct(k, m, ns, r.d, s.p, ng, r.depth, id);
-        }
-        color += r.share * local;
-        if r.depth >= P.render.z {
-            continue;
-        }
-        spawn(s.p, ng, ns, r, m, entering);
     }
     return color;
 }
 
+// What a hit sends back along its ray (`Whitted::li` but for the rays it
+// spawns, which go on `pending`): the ambient term and each light whose
+// shadow ray is clear.
+fn shade(pending: ptr<function, RayStack>, q: Query, hit: Hit, r: Pending, id: SampleId) -> vec3<f32> {
+    if r.depth == 1u {
+        local_counts[COUNT_EYE_HITS]++;
+    }
+    let s = surface(hit, q);
+    let m = material(info[hit.prim].x);
+    let entering = dot3(s.ng, r.d) < 0.0;
+    let flip = select(-1.0, 1.0, entering);
+    let ng = s.ng * flip;
+    let ns = s.ns * flip;
+    var local = P.background.w * m.kd * m.color;
+    for (var k = 0u; k < P.counts.x; k++) {
+        local += direct(k, m, ns, r.d, s.p, ng, r.depth, id);
+    }
+    if r.depth < P.render.z {
+        spawn(pending, s.p, ng, ns, r, m, entering);
+    }
+    return local;
+}
+
 // `Whitted::spawn` and `choose_rays`: the mirror and refracted rays of a
 // hit, under the Fresnel rule or the plain NFF one.
-fn spawn(p: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, r: Pending, m: Material, entering: bool) {
+fn spawn(pending: ptr<function, RayStack>, p: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, r: Pending, m: Material, entering: bool) {
     let d = r.d;
     var refracted = false;
     var t_dir: vec3<f32>;
@@ -309,27 +317,27 @@ fn spawn(p: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, r: Pending, m: Material, en
         }
         if kr > 0.0 && r.weight * kr >= min_w {
             local_counts[COUNT_REFLECTED]++;
-            push(mirror_o, mirror_d, r.weight * kr, r.share * kr * m.specular, depth);
+            push(pending, mirror_o, mirror_d, r.weight * kr, r.share * kr * m.specular, depth);
         }
         let share = m.t * (1.0 - kr);
         if refracted && share > 0.0 && r.weight * share >= min_w {
             local_counts[COUNT_REFRACTED]++;
-            push(t_o, t_dir, r.weight * share, r.share * share, depth);
+            push(pending, t_o, t_dir, r.weight * share, r.share * share, depth);
         }
         return;
     }
     if m.ks > 0.0 && r.weight * m.ks >= min_w {
         local_counts[COUNT_REFLECTED]++;
-        push(mirror_o, mirror_d, r.weight * m.ks, r.share * m.ks * m.specular, depth);
+        push(pending, mirror_o, mirror_d, r.weight * m.ks, r.share * m.ks * m.specular, depth);
     }
     // Total internal reflection: the transmitted share reflects.
     if tir && r.weight * m.t >= min_w {
         local_counts[COUNT_REFLECTED]++;
-        push(mirror_o, mirror_d, r.weight * m.t, r.share * m.t * m.specular, depth);
+        push(pending, mirror_o, mirror_d, r.weight * m.t, r.share * m.t * m.specular, depth);
     }
     if refracted && r.weight * m.t >= min_w {
         local_counts[COUNT_REFRACTED]++;
-        push(t_o, t_dir, r.weight * m.t, r.share * m.t, depth);
+        push(pending, t_o, t_dir, r.weight * m.t, r.share * m.t, depth);
     }
 }
 
@@ -367,7 +375,11 @@ fn pixel(px: u32, py: u32) -> vec3<f32> {
 
 var<workgroup> group_counts: array<atomic<u32>, COUNTERS>;
 
-@compute @workgroup_size(8, 8, 1)
+// Side of a workgroup: 8 on GPUs; 1 on a CPU adapter, where lavapipe 22.3
+// (Debian 12's) mixes up the colours of lanes whose ray trees differ.
+override GROUP_SIDE: u32 = 8u;
+
+@compute @workgroup_size(GROUP_SIDE, GROUP_SIDE, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let x = gid.x;
     let y = P.window.z + gid.y;
@@ -394,10 +406,12 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
         }
     }
     workgroupBarrier();
-    if lid < COUNTERS {
-        let n = atomicLoad(&group_counts[lid]);
-        if n != 0u {
-            atomicAdd(&counters[P.counts.z * COUNTERS + lid], n);
+    if lid == 0u {
+        for (var i = 0u; i < COUNTERS; i++) {
+            let n = atomicLoad(&group_counts[i]);
+            if n != 0u {
+                atomicAdd(&counters[P.counts.z * COUNTERS + i], n);
+            }
         }
     }
 }
