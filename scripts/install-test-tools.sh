@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The real programs the tests run, installed where missing: GNU parallel,
-# POV-Ray and Chromium (Debian), Rust's wasm32-unknown-unknown target (rustup, for
+# POV-Ray, Chromium and lavapipe, Mesa's software Vulkan driver, with the
+# Vulkan loader (Debian; `render --device gpu` runs on it where there is
+# no GPU), Rust's wasm32-unknown-unknown target (rustup, for
 # the browser playground), openjd-cli, kubernetes-validate and Mitsuba 3 (PyPI, in a
 # virtual environment under target/test-tools, where the tests look), and
 # the Khronos glTF-Validator and puppeteer-core (npm, under
@@ -15,6 +17,9 @@ cd "$(dirname "$0")/.."
 debian() { # COMMAND PACKAGE...
   command -v "$1" >/dev/null && return
   shift
+  apt_install "$@"
+}
+apt_install() { # PACKAGE...
   if [ "$(id -u)" = 0 ]; then
     DEBIAN_FRONTEND=noninteractive apt-get install -y -q "$@" >/dev/null 2>&1 ||
       { apt-get update -q >/dev/null && DEBIAN_FRONTEND=noninteractive apt-get install -y -q "$@" >/dev/null; }
@@ -23,6 +28,9 @@ debian() { # COMMAND PACKAGE...
   fi
 }
 debian parallel parallel
+if ! ls /usr/share/vulkan/icd.d/lvp_icd.*.json >/dev/null 2>&1; then
+  apt_install mesa-vulkan-drivers libvulkan1
+fi
 debian povray povray
 debian chromium chromium
 if command -v rustup >/dev/null && ! rustup target list --installed | grep -qx wasm32-unknown-unknown; then

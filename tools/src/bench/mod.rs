@@ -55,6 +55,45 @@ pub fn render_timing(scene: &Scene, args: &[&str], runs: u32) -> Result<RenderTi
     Ok(RenderTiming { seconds, rays })
 }
 
+/// What the GPU measured on one scene: eye rays (one per pixel centre, to
+/// the nearest hit, no shading) and a whole Whitted render.
+#[derive(Debug, Clone, Copy)]
+pub struct GpuTiming {
+    /// Eye rays per second, in millions (best of the runs).
+    pub eye_mrays: f64,
+    /// The render's seconds on the GPU, dispatch to completion (scene
+    /// upload and shader compilation before), best of the runs.
+    pub render_seconds: f64,
+    /// The render's rays.
+    pub rays: u64,
+}
+
+/// Time the GPU on `scene` with `args` (render's own options) for the
+/// render, at the same image size for the eye rays.
+pub fn gpu_timing(
+    gpu: &nffkit_tracer::gpu::Gpu,
+    scene: &Scene,
+    args: &[&str],
+    runs: u32,
+) -> Result<GpuTiming> {
+    use nffkit_tracer::gpu::GpuScene;
+    let config = render_config_from(args.iter().copied())?;
+    let prepared = prepare(scene, &config.prepare)?;
+    let eye = GpuScene::new(gpu, &prepared, &nffkit_tracer::render::RenderSettings::default())?;
+    let mut eye_mrays = 0.0f64;
+    let whitted = GpuScene::new(gpu, &prepared, &config.settings)?;
+    let (mut render_seconds, mut rays) = (f64::INFINITY, 0);
+    for _ in 0..runs.max(1) {
+        let e = eye.eye_rays()?;
+        eye_mrays = eye_mrays.max(e.rays as f64 / e.seconds / 1e6);
+        let r = whitted.render(&|_, _| {})?;
+        if r.seconds < render_seconds {
+            (render_seconds, rays) = (r.seconds, r.counters.rays());
+        }
+    }
+    Ok(GpuTiming { eye_mrays, render_seconds, rays })
+}
+
 /// What loading the sphereflake costs in one fresh process.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct FlakeProcess {

@@ -52,6 +52,10 @@ struct Args {
     /// of the current directory or the nearest folder above it.
     #[arg(long, value_name = "DIR")]
     spd_dir: Option<PathBuf>,
+    /// Also trace on a GPU (wgpu; lavapipe where there is no GPU): eye
+    /// rays and the 16 spp Whitted render of each scene, beside the CPU's.
+    #[arg(long, value_enum, default_value = "cpu")]
+    device: nffkit_tools::render::args::Device,
     /// Internal: measure one sphereflake file in this process.
     #[arg(long, hide = true, value_name = "FILE")]
     flake_child: Option<PathBuf>,
@@ -71,9 +75,16 @@ struct Column {
     /// `bench::povray::settings`.
     pov: Vec<(&'static str, (f64, f64))>,
     embree: Option<[Option<f64>; 4]>,
+    gpu: Option<bench::GpuTiming>,
 }
 
-fn measure(name: &str, spd: &Path, a: &Args, threads: usize) -> Result<Column> {
+fn measure(
+    name: &str,
+    spd: &Path,
+    a: &Args,
+    threads: usize,
+    gpu: Option<&nffkit_tracer::gpu::Gpu>,
+) -> Result<Column> {
     let path = spd.join(format!("{name}.nff"));
     let src = std::fs::read(&path).with_context(|| format!("reading {}", path.display()))?;
     let scene = nff::parse(&src, &ParseOptions::default()).map_err(|e| anyhow::anyhow!("{name}: {e}"))?.scene;
@@ -87,6 +98,13 @@ fn measure(name: &str, spd: &Path, a: &Args, threads: usize) -> Result<Column> {
     nffkit_tools::eprintln_safe!("{name}: Whitted renders on {threads} threads");
     let spp1 = render_timing(&scene, &base, a.runs)?;
     let spp16 = render_timing(&scene, &[&base[..], &["--spp", "16"]].concat(), a.runs)?;
+    let gpu = match gpu {
+        Some(g) => {
+            nffkit_tools::eprintln_safe!("{name}: eye rays and the 16 spp render on the GPU");
+            Some(bench::gpu_timing(g, &scene, &[&base[..], &["--spp", "16"]].concat(), a.runs)?)
+        }
+        None => None,
+    };
     let mut pov = Vec::new();
     if a.povray {
         let dir = tempfile::tempdir()?;
@@ -124,6 +142,7 @@ fn measure(name: &str, spd: &Path, a: &Args, threads: usize) -> Result<Column> {
         spp16,
         pov,
         embree,
+        gpu,
     })
 }
 
@@ -148,10 +167,25 @@ fn flake(level: u32, dir: &Path, runs: u32) -> Result<(FlakeProcess, f64)> {
     best.context("no run")
 }
 
+/// Millions of rays per second, to three significant figures or so
+/// (lavapipe's fractions to an H100's thousands).
+fn rate(mrays: f64) -> String {
+    match mrays {
+        m if m >= 100.0 => format!("{m:.0}"),
+        m if m >= 1.0 => format!("{m:.2}"),
+        m => format!("{m:.4}"),
+    }
+}
+
 fn report(a: &Args) -> Result<String> {
     let spd = spd_dir(a)?;
     let threads = rayon::current_num_threads();
-    let cols = SCENES.iter().map(|s| measure(s, &spd, a, threads)).collect::<Result<Vec<_>>>()?;
+    let gpu = match a.device {
+        nffkit_tools::render::args::Device::Gpu => Some(nffkit_tracer::gpu::Gpu::new()?),
+        nffkit_tools::render::args::Device::Cpu => None,
+    };
+    let cols =
+        SCENES.iter().map(|s| measure(s, &spd, a, threads, gpu.as_ref())).collect::<Result<Vec<_>>>()?;
     let mut t = format!("## Rays and renders ({0}x{0}, depth 6; {threads} threads for renders)\n\n", a.size);
     let _ = writeln!(t, "| measure | {} |", SCENES.join(" | "));
     let _ = writeln!(t, "|---|{}", "---:|".repeat(SCENES.len()));
@@ -169,6 +203,20 @@ fn report(a: &Args) -> Result<String> {
         row(&format!("{label}, s (Mrays/s per thread)"), &|c| {
             let r = if pick == 0 { c.spp1 } else { c.spp16 };
             format!("{:.3} ({:.2})", r.seconds, r.rays as f64 / r.seconds / threads as f64 / 1e6)
+        });
+    }
+    if let Some(g) = &gpu {
+        let adapter = g.description();
+        row(&format!("GPU eye rays, Mrays/s ({adapter})"), &|c| {
+            c.gpu.map_or("-".into(), |g| rate(g.eye_mrays))
+        });
+        row("GPU Whitted 16 spp, s (Mrays/s)", &|c| {
+            c.gpu.map_or("-".into(), |g| {
+                format!("{:.3} ({})", g.render_seconds, rate(g.rays as f64 / g.render_seconds / 1e6))
+            })
+        });
+        row(&format!("GPU 16 spp against the CPU's {threads} threads: CPU s / GPU s"), &|c| {
+            c.gpu.map_or("-".into(), |g| format!("{:.2}x", c.spp16.seconds / g.render_seconds))
         });
     }
     if a.shared.is_some() {

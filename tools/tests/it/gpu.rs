@@ -161,3 +161,32 @@ fn what_the_gpu_does_not_do_is_refused_before_work() {
         assert!(!out.exists());
     }
 }
+
+#[test]
+fn the_benchmark_measures_the_gpu_beside_the_cpu() {
+    if !gpu_available() {
+        return;
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_nffbench"))
+        .args(["--size", "16", "--runs", "1", "--flake-level", "2", "--device", "gpu"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    for label in
+        ["| GPU eye rays, Mrays/s (", "| GPU Whitted 16 spp, s (Mrays/s) |", "| GPU 16 spp against the CPU's"]
+    {
+        let row = stdout
+            .lines()
+            .find(|l| l.starts_with(label))
+            .unwrap_or_else(|| panic!("no `{label}` in:\n{stdout}"));
+        // Two scenes, each with a positive figure.
+        let figures: Vec<f64> = row
+            .split('|')
+            .skip(2)
+            .filter_map(|c| c.trim().split([' ', 'x']).next().and_then(|v| v.parse().ok()))
+            .collect();
+        assert!(figures.len() == 2 && figures.iter().all(|&v| v > 0.0), "{row}");
+    }
+}
