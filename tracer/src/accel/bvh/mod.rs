@@ -50,6 +50,7 @@ impl Bvh {
 
     /// The 4-wide nodes, depth first (node 0 is the root), and the
     /// primitive ids in the order leaves index them.
+    #[cfg(feature = "gpu")]
     pub(crate) fn nodes(&self) -> (&[Node4], &[u32]) {
         (&self.wide, &self.prims)
     }
