@@ -214,6 +214,12 @@ impl Geometry {
         self.start[FIRST_UNBOUNDED as usize] as usize
     }
 
+    /// The first id of kind `k`.
+    #[cfg(feature = "gpu")]
+    pub fn first_id(&self, k: Kind) -> u32 {
+        self.start[k as usize]
+    }
+
     /// The ids of the infinite planes.
     #[inline]
     pub fn plane_ids(&self) -> std::ops::Range<u32> {

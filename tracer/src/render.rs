@@ -102,6 +102,19 @@ impl Default for RenderSettings {
 }
 
 impl RenderSettings {
+    /// The pixels to render of a `width` x `height` image: the window,
+    /// cut to the image where it reaches past it (callers check), or the
+    /// whole image.
+    pub fn pixel_window(&self, width: u32, height: u32) -> PixelWindow {
+        let (w, h) = (width, height);
+        self.window.map_or(PixelWindow::full(w, h), |v| PixelWindow {
+            x0: v.x0.min(w),
+            x1: v.x1.clamp(v.x0.min(w), w),
+            y0: v.y0.min(h),
+            y1: v.y1.clamp(v.y0.min(h), h),
+        })
+    }
+
     /// Whether each pixel takes the one classic NFF eye ray through its
     /// centre: one sample, no pattern asked for, a pinhole camera.
     pub fn pixel_centre_only(&self, camera: &Camera) -> bool {
@@ -178,13 +191,7 @@ fn render_with<I: Intersector>(
             cost.map(|c| (0..w * h).map(|i| c[((i / w) * (w + 1) + i % w) as usize]).collect::<Vec<_>>());
         RenderOutput { film, cost, counters, seconds: 0.0 }
     } else {
-        // A window reaching past the image is cut to it (callers check).
-        let win = settings.window.map_or(PixelWindow::full(w, h), |v| PixelWindow {
-            x0: v.x0.min(w),
-            x1: v.x1.clamp(v.x0.min(w), w),
-            y0: v.y0.min(h),
-            y1: v.y1.clamp(v.y0.min(h), h),
-        });
+        let win = settings.pixel_window(w, h);
         let grid = Raster { x0: win.x0, y0: win.y0, width: win.width(), height: win.height() };
         let stride = settings.row_stride.max(1);
         let centre = settings.pixel_centre_only(&scene.camera);

@@ -7,7 +7,7 @@
 
 use crate::accel::{Accel, Bvh, Node4};
 use crate::filter::Filter;
-use crate::geometry::Cull;
+use crate::geometry::{Cull, Kind};
 use crate::light::LightShape;
 use crate::prepare::RenderScene;
 use crate::render::RenderSettings;
@@ -120,7 +120,9 @@ fn bvh(scene: &RenderScene) -> Cow<'_, Bvh> {
     }
 }
 
-/// Levels of a depth-first node array (children after their parent).
+/// Levels of the tree. The builder writes every node before its children
+/// (`wide::emit` and `parts`), so one pass in array order sees each
+/// parent's level before its children need it.
 fn tree_depth(nodes: &[Node4]) -> u32 {
     let mut level = vec![0u32; nodes.len()];
     let mut deepest = 0;
@@ -204,11 +206,6 @@ impl SceneData {
         let (forward, right, up, pixel) = cam.frame();
         let (w, h) = cam.resolution();
         let s = &settings.sampler;
-        let count = |k| g.count(k) as u32;
-        use crate::geometry::Kind;
-        let tri_start = count(Kind::Sphere);
-        let cone_start = tri_start + count(Kind::Triangle);
-        let plane_start = cone_start + count(Kind::Cone);
         let params = Params {
             eye: v4(cam.eye, 0.0),
             forward: v4(forward, 0.0),
@@ -216,8 +213,10 @@ impl SceneData {
             up: v4(up, 0.0),
             lens: [pixel, cam.aperture, cam.focus, cam.hither],
             background: v4(scene.background, scene.ambient),
+            // The window's corner and size: `GpuScene::new`; the band:
+            // each dispatch.
             image: [w, h, 0, 0],
-            window: [w, h, 0, h],
+            window: [0; 4],
             sampler: [sampler_code(s.kind), s.spp, s.side(), s.seed],
             render: [
                 settings.pixel_centre_only(cam) as u32,
@@ -235,7 +234,12 @@ impl SceneData {
                 1.0,
             ],
             counts: [scene.lights.len() as u32, g.any_cull as u32, 0, 0],
-            ids: [tri_start, cone_start, plane_start, g.len() as u32],
+            ids: [
+                g.first_id(Kind::Triangle),
+                g.first_id(Kind::Cone),
+                g.first_id(Kind::Plane),
+                g.len() as u32,
+            ],
             shape_at: [tri_at as u32, cone_at as u32, plane_at as u32, patch_at as u32],
             table_at: [0, light_at as u32, cdf_at as u32, scene.environment.is_some() as u32],
             faces,

@@ -210,12 +210,7 @@ impl<'g> GpuScene<'g> {
         }
         let data = SceneData::new(scene, settings);
         let (w, h) = scene.camera.resolution();
-        let window = settings.window.map_or(PixelWindow::full(w, h), |v| PixelWindow {
-            x0: v.x0.min(w),
-            x1: v.x1.clamp(v.x0.min(w), w),
-            y0: v.y0.min(h),
-            y1: v.y1.clamp(v.y0.min(h), h),
-        });
+        let window = settings.pixel_window(w, h);
         gpu.checked(|| GpuScene::upload(gpu, data, settings, window))
     }
 
@@ -235,7 +230,7 @@ impl<'g> GpuScene<'g> {
             }
         };
         // A binding cannot be empty: a missing kind gets one zeroed element.
-        fn bytes_of<T: bytemuck::Pod + bytemuck::Zeroable>(v: &[T]) -> Vec<u8> {
+        fn bytes_of<T: bytemuck::Pod>(v: &[T]) -> Vec<u8> {
             if v.is_empty() {
                 vec![0u8; std::mem::size_of::<T>().max(4)]
             } else {
@@ -285,7 +280,7 @@ impl<'g> GpuScene<'g> {
         // One pixel per workgroup on a CPU adapter: lavapipe 22.3 (Debian
         // 12's) gives some pixels of an 8 x 8 group wrong colours where
         // their ray trees differ (a single-pixel render of the same pixel is
-        // right). Its lanes are few, so little is lost.
+        // right).
         let group = if gpu.info.device_type == wgpu::DeviceType::Cpu { 1 } else { 8 };
         let constants = [("GROUP_SIDE", group as f64)];
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -310,22 +305,16 @@ impl<'g> GpuScene<'g> {
             layout: &pipeline.get_bind_group_layout(0),
             entries: &entries,
         });
-        Ok(GpuScene {
-            gpu,
-            params: data.params,
-            pipeline,
-            bind_group,
-            uniform,
-            film,
-            counters,
-            window,
-            group,
-        })
+        let mut params = data.params;
+        params.image[2] = window.x0;
+        params.image[3] = window.y0;
+        params.window[..2].copy_from_slice(&[window.width(), window.height()]);
+        Ok(GpuScene { gpu, params, pipeline, bind_group, uniform, film, counters, window, group })
     }
 
     /// Render the image (the window the settings asked for).
     pub fn render(&self, progress: Progress) -> Result<RenderOutput, GpuError> {
-        let run = self.gpu.checked(|| self.run(MODE_RENDER, progress))?;
+        let run = self.gpu.checked(|| self.run(MODE_RENDER, progress, true))?;
         let pixels = run.film.iter().map(|p| Vec3A::new(p[0], p[1], p[2])).collect();
         let film = Film { width: self.window.width(), height: self.window.height(), pixels };
         let c = &run.counts;
@@ -343,13 +332,13 @@ impl<'g> GpuScene<'g> {
     /// Trace one eye ray through each pixel centre of the window to its
     /// nearest hit, without shading: the eye-ray throughput.
     pub fn eye_rays(&self) -> Result<EyeRays, GpuError> {
-        let run = self.gpu.checked(|| self.run(MODE_EYE_HITS, &|_, _| {}))?;
+        let run = self.gpu.checked(|| self.run(MODE_EYE_HITS, &|_, _| {}, false))?;
         Ok(EyeRays { rays: run.counts[0], hits: run.counts[1], seconds: run.seconds })
     }
 
-    /// Dispatch the window band by band in `mode`, then read the film and
-    /// the counters back.
-    fn run(&self, mode: u32, progress: Progress) -> Result<Run, GpuError> {
+    /// Dispatch the window band by band in `mode`, then read the counters
+    /// back, and the film when `want_film`.
+    fn run(&self, mode: u32, progress: Progress, want_film: bool) -> Result<Run, GpuError> {
         let (device, queue) = (&self.gpu.device, &self.gpu.queue);
         let (w, h) = (self.window.width(), self.window.height());
         if w == 0 || h == 0 {
@@ -365,9 +354,7 @@ impl<'g> GpuScene<'g> {
         let t0 = Stopwatch::start();
         for band in 0..bands {
             let mut p = self.params;
-            p.image[2] = self.window.x0;
-            p.image[3] = self.window.y0;
-            p.window = [w, h, band * rows, rows];
+            p.window[2..].copy_from_slice(&[band * rows, rows]);
             p.render[3] = mode;
             p.counts[2] = band;
             queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&p));
@@ -383,7 +370,8 @@ impl<'g> GpuScene<'g> {
             progress(band as usize + 1, bands as usize);
         }
         let seconds = t0.seconds();
-        let film: Vec<[f32; 4]> = self.read(&self.film, w as u64 * h as u64 * 16)?;
+        let film: Vec<[f32; 4]> =
+            if want_film { self.read(&self.film, w as u64 * h as u64 * 16)? } else { Vec::new() };
         let slots: Vec<u32> = self.read(&self.counters, bands as u64 * COUNTERS as u64 * 4)?;
         let mut counts = [0u64; COUNTERS];
         for band in slots.chunks(COUNTERS) {

@@ -24,7 +24,7 @@ struct Params {
     // depth, what to compute (`MODE_*`).
     render: vec4<u32>,
     // Light side or diameter, light shape (0 square, 1 disk), the weight
-    // below which rays are not traced, unused.
+    // below which rays are not traced, and 1 (`one()` in geometry.wgsl).
     shade: vec4<f32>,
     // Light count, whether any primitive culls, the band index of this
     // dispatch (its slot in the counters), unused.

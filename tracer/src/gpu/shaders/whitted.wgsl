@@ -249,8 +249,6 @@ fn radiance(eye: EyeRay, id: SampleId) -> vec3<f32> {
     var pending: RayStack;
     pending.rays[0] = Pending(eye.o, eye.t_min, eye.d, 1.0, vec3<f32>(1.0), 1u);
     pending.count = 1u;
-    // (No `continue` in this loop: lavapipe 22.3 mixes up the lanes of a
-    // workgroup that continue at different iterations.)
     while pending.count > 0u {
         pending.count--;
         let r = pending.rays[pending.count];
