@@ -102,11 +102,10 @@ impl Default for RenderSettings {
 }
 
 impl RenderSettings {
-    /// The pixels to render of a `width` x `height` image: the window,
+    /// The pixels to render of a `w` x `h` image: the window,
     /// cut to the image where it reaches past it (callers check), or the
     /// whole image.
-    pub fn pixel_window(&self, width: u32, height: u32) -> PixelWindow {
-        let (w, h) = (width, height);
+    pub fn pixel_window(&self, w: u32, h: u32) -> PixelWindow {
         self.window.map_or(PixelWindow::full(w, h), |v| PixelWindow {
             x0: v.x0.min(w),
             x1: v.x1.clamp(v.x0.min(w), w),

@@ -29,6 +29,22 @@ fn enter_box(node: Node, slot: u32, q: Query, t_max: f32) -> f32 {
     return infinity();
 }
 
+// `Node4::entry`: child `slot` of `node` as a stack entry.
+fn child_entry(node: Node, slot: u32, t: f32) -> Entry {
+    return Entry(node.child[slot], node.count[slot], t);
+}
+
+// The next entry off the stack into `e`; false when the stack is empty
+// (the walk is over).
+fn pop(stack: ptr<function, array<Entry, BVH_STACK>>, sp: ptr<function, u32>, e: ptr<function, Entry>) -> bool {
+    if *sp == 0u {
+        return false;
+    }
+    *sp -= 1u;
+    *e = (*stack)[*sp];
+    return true;
+}
+
 // `test_prim` for the nearest hit: ties go to the lower id, so the image
 // does not depend on the order leaves are visited.
 fn test_nearest(id: u32, q: Query, best: ptr<function, Hit>, t_max: f32) {
@@ -85,21 +101,16 @@ fn nearest(q: Query, t_max: f32) -> Hit {
                     }
                     if n > 0u {
                         for (var i = 0u; i + 1u < n; i++) {
-                            stack[sp] = Entry(node.child[slots[i]], node.count[slots[i]], ts[i]);
+                            stack[sp] = child_entry(node, slots[i], ts[i]);
                             sp++;
                         }
-                        let last = slots[n - 1u];
-                        e = Entry(node.child[last], node.count[last], ts[n - 1u]);
+                        e = child_entry(node, slots[n - 1u], ts[n - 1u]);
                         descend = true;
                     }
                 }
             }
-            if !descend {
-                if sp == 0u {
-                    break;
-                }
-                sp--;
-                e = stack[sp];
+            if !descend && !pop(&stack, &sp, &e) {
+                break;
             }
         }
     }
@@ -138,23 +149,19 @@ fn occluded(q: Query, t_max: f32) -> bool {
             for (var slot = 0u; slot < 4u; slot++) {
                 if node.count[slot] != UNUSED && enter_box(node, slot, q, box_limit) != infinity() {
                     if next != UNUSED {
-                        stack[sp] = Entry(node.child[next], node.count[next], 0.0);
+                        stack[sp] = child_entry(node, next, 0.0);
                         sp++;
                     }
                     next = slot;
                 }
             }
             if next != UNUSED {
-                e = Entry(node.child[next], node.count[next], 0.0);
+                e = child_entry(node, next, 0.0);
                 descend = true;
             }
         }
-        if !descend {
-            if sp == 0u {
-                break;
-            }
-            sp--;
-            e = stack[sp];
+        if !descend && !pop(&stack, &sp, &e) {
+            break;
         }
     }
     return false;

@@ -1,6 +1,7 @@
 // Rays and the primitive tests of `math.rs` and `geometry.rs`. Where the
-// CPU computes in f64 (triangle edges hit exactly, cones), the shaders call
-// `precise_f64.wgsl` on adapters with f64 and `precise_f32.wgsl` on others.
+// CPU computes in f64 (triangle edges hit exactly, cones), the shaders take
+// their helpers and the cone's precision (`Real`) from `precise_f64.wgsl`
+// on adapters with f64 and from `precise_f32.wgsl` on others.
 
 // Rounding-error bounds and the slab widening (`aabb.rs`), bit for bit as
 // the CPU computes them; `gpu/mod.rs` writes their values here.
@@ -176,6 +177,66 @@ fn intersect_sphere(s: vec4<f32>, q: Query, t_max: f32, cull: u32) -> f32 {
         }
     } else if ok1 {
         return t1;
+    }
+    return infinity();
+}
+
+// `geometry::intersect_cone` in `Real`, the precision the precise file
+// chooses (f64 as on the CPU where the adapter has it), with that file's
+// `with_sign_of`: the open cone |p⊥| = r0 + slope·h, 0 ≤ h ≤ height, with
+// base and height in c0, axis and r0 in c1, slope in c2.x.
+fn intersect_cone(c0: vec4<f32>, c1: vec4<f32>, c2: vec4<f32>, q: Query, t_max: f32, cull: u32) -> f32 {
+    let axis = vec3<Real>(c1.xyz);
+    let o = vec3<Real>(q.o) - vec3<Real>(c0.xyz);
+    let d = vec3<Real>(q.d);
+    let slope = Real(c2.x);
+    let r0 = Real(c1.w);
+    let height = Real(c0.w);
+    let oa = dot(o, axis);
+    let da = dot(d, axis);
+    let op = o - axis * oa;
+    let dp = d - axis * da;
+    let r = r0 + slope * oa;
+    let a = dot(dp, dp) - slope * slope * da * da;
+    let b = 2.0 * (dot(op, dp) - slope * r * da);
+    let cc = dot(op, op) - r * r;
+    var ts: array<Real, 2>;
+    if abs(a) < 1e-14 {
+        if b == 0.0 {
+            return infinity();
+        }
+        ts[0] = -cc / b;
+        ts[1] = ts[0];
+    } else {
+        let disc = b * b - 4.0 * a * cc;
+        if disc < 0.0 {
+            return infinity();
+        }
+        let qq = -0.5 * (b + with_sign_of(sqrt(disc), b));
+        let x = qq / a;
+        let y = select(qq / a, cc / qq, qq != 0.0);
+        ts[0] = min(x, y);
+        ts[1] = max(x, y);
+    }
+    for (var i = 0u; i < 2u; i++) {
+        let t = ts[i];
+        let tf = f32(t);
+        if !in_range(tf, q, t_max) {
+            continue;
+        }
+        let h = oa + t * da;
+        if h < 0.0 || h > height || r0 + slope * h < 0.0 {
+            continue;
+        }
+        if cull != CULL_NONE {
+            let radial = o + d * t - axis * h;
+            let front = dot(d, radial - axis * (slope * length(radial))) < 0.0;
+            if front == (cull == CULL_BACK) {
+                return tf;
+            }
+            continue;
+        }
+        return tf;
     }
     return infinity();
 }
