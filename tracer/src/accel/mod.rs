@@ -20,7 +20,7 @@
 mod brute;
 mod bvh;
 #[cfg(feature = "gpu")]
-pub(crate) use bvh::Node4;
+pub(crate) use bvh::{Node4, MAX, MIN};
 mod grid;
 #[cfg(test)]
 mod tests;

@@ -5,7 +5,7 @@
 //! (materials, lights, the filter's CDF) in another. Building these is
 //! plain CPU work, tested without a GPU.
 
-use crate::accel::{Accel, Bvh, Node4};
+use crate::accel::{Accel, Bvh, Node4, MAX, MIN};
 use crate::filter::Filter;
 use crate::geometry::{Cull, Kind};
 use crate::light::LightShape;
@@ -57,8 +57,8 @@ pub(crate) const COUNTERS: usize = 8;
 impl GpuNode {
     fn new(n: &Node4) -> GpuNode {
         let mut g = GpuNode {
-            lo: [n.min[0].to_array(), n.min[1].to_array(), n.min[2].to_array()],
-            hi: [n.max[0].to_array(), n.max[1].to_array(), n.max[2].to_array()],
+            lo: n.bounds[MIN].map(|v| v.to_array()),
+            hi: n.bounds[MAX].map(|v| v.to_array()),
             child: n.child,
             count: n.count,
         };
@@ -321,7 +321,7 @@ mod tests {
             for slot in 0..4 {
                 assert_eq!(g.count[slot] == UNUSED, !n.used(slot));
                 if n.used(slot) {
-                    assert_eq!(g.lo[0][slot], n.min[0][slot]);
+                    assert_eq!(g.lo[0][slot], n.bounds[MIN][0][slot]);
                 }
             }
         }

@@ -16,8 +16,8 @@ use crate::simd::lanes::Mask;
 use crate::stats::Counters;
 use crate::stopwatch::Stopwatch;
 use packet::PacketEntry;
-pub(crate) use wide::Node4;
 use wide::{Entry, Ray4, STACK};
+pub(crate) use wide::{Node4, MAX, MIN};
 
 /// Per-thread traversal stacks, allocated once: one for single rays, one
 /// for packets.
@@ -150,6 +150,24 @@ impl Bvh {
                             }
                             let slot = mask.trailing_zeros() as usize;
                             e = node.entry(slot, t[slot]);
+                            continue;
+                        }
+                        // One box: entered at once. Two: the nearer entered,
+                        // the other stacked (at equal distances the higher
+                        // slot is entered, as the sort below would order them).
+                        let first = mask.trailing_zeros() as usize;
+                        let rest = mask & (mask - 1);
+                        if rest == 0 {
+                            e = node.entry(first, t[first]);
+                            continue;
+                        }
+                        if rest & (rest - 1) == 0 {
+                            let second = rest.trailing_zeros() as usize;
+                            let (near, far) =
+                                if t[second] <= t[first] { (second, first) } else { (first, second) };
+                            stack[sp] = node.entry(far, t[far]);
+                            sp += 1;
+                            e = node.entry(near, t[near]);
                             continue;
                         }
                         // Sorted by entry distance, farthest first.
