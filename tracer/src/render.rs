@@ -294,11 +294,11 @@ fn pixel<I: Intersector>(
     let mut colors = [Vec3A::ZERO; LANES];
     for first in (0..sampler.spp).step_by(LANES) {
         let n = (sampler.spp - first).min(LANES as u32) as usize;
-        for i in 0..n {
-            let index = first + i as u32;
-            let ((ray, t_min), weight) = samples.ray(index);
+        let mut made = [((Ray { o: Vec3A::ZERO, d: Vec3A::Z }, 0.0), 0.0); LANES];
+        samples.rays(first, &mut made[..n]);
+        for (i, &((ray, t_min), weight)) in made[..n].iter().enumerate() {
             (rays[i], w[i]) = ((ray, t_min, 1.0), weight);
-            ids[i].index = index;
+            ids[i].index = first + i as u32;
         }
         trace_eye(shader, settings, &rays[..n], &ids[..n], th, &mut colors);
         for i in 0..n {
@@ -338,8 +338,31 @@ impl<'a> PixelSamples<'a> {
     /// Sample `index`'s eye ray (with its `t_min`) and filter weight.
     #[inline]
     pub(crate) fn ray(&self, index: u32) -> ((Ray, f32), f32) {
-        let (offset, weight) = self.filter.sample(self.sampler.sample_of(self.position, index));
-        let lens = self.lens.map_or(Vec2::ZERO, |p| concentric_disk(self.sampler.sample_of(p, index)));
+        let lens = self.lens.map_or(Vec2::ZERO, |p| self.sampler.sample_of(p, index));
+        self.ray_from(self.sampler.sample_of(self.position, index), lens)
+    }
+
+    /// [`PixelSamples::ray`] of samples `first..first + out.len()`
+    /// (at most [`LANES`]), their pattern samples made together.
+    #[inline]
+    pub(crate) fn rays(&self, first: u32, out: &mut [((Ray, f32), f32)]) {
+        let n = out.len();
+        let (mut position, mut lens) = ([Vec2::ZERO; LANES], [Vec2::ZERO; LANES]);
+        self.sampler.samples_of(self.position, first, &mut position[..n]);
+        if let Some(p) = self.lens {
+            self.sampler.samples_of(p, first, &mut lens[..n]);
+        }
+        for ((o, &u), &l) in out.iter_mut().zip(&position).zip(&lens) {
+            *o = self.ray_from(u, l);
+        }
+    }
+
+    /// The eye ray and filter weight of a pixel sample `u` and a lens
+    /// sample `l` (both in the unit square).
+    #[inline(always)]
+    fn ray_from(&self, u: Vec2, l: Vec2) -> ((Ray, f32), f32) {
+        let (offset, weight) = self.filter.sample(u);
+        let lens = if self.lens.is_some() { concentric_disk(l) } else { Vec2::ZERO };
         let (x, y) = (self.px as f32 + 0.5 + offset.x, self.py as f32 + 0.5 + offset.y);
         (self.camera.ray(x, y, lens), weight)
     }

@@ -13,6 +13,7 @@
 //! (pixel, dimension), and `nextSample` is the next index given to
 //! [`Sampler::sample_of`], without a stored table.
 
+use crate::simd::{dispatch, LANES};
 use glam::Vec2;
 use strum::{Display, IntoStaticStr, VariantArray};
 
@@ -144,6 +145,29 @@ impl Sampler {
         hash4(px, py, dim, self.seed)
     }
 
+    /// Samples `first..first + out.len()` of the pattern `p`, as
+    /// [`Sampler::sample_of`] gives them; a multi-jittered pattern of
+    /// power-of-two side [`LANES`] at a time in the vector units.
+    #[inline]
+    pub fn samples_of(&self, p: u32, first: u32, out: &mut [Vec2]) {
+        let lane_wise =
+            matches!(self.kind, SamplerKind::MultiJittered | SamplerKind::CorrelatedMultiJittered)
+                && self.n > 1
+                && self.n.is_power_of_two();
+        if !lane_wise {
+            for (i, o) in out.iter_mut().enumerate() {
+                *o = self.sample_of(p, first.wrapping_add(i as u32));
+            }
+            return;
+        }
+        let correlated = self.kind == SamplerKind::CorrelatedMultiJittered;
+        for (k, chunk) in out.chunks_mut(LANES).enumerate() {
+            let at = first.wrapping_add((k * LANES) as u32);
+            let lanes = multi_jittered_lanes(crate::simd::isa(), p, at, self.n.trailing_zeros(), correlated);
+            chunk.copy_from_slice(&lanes[..chunk.len()]);
+        }
+    }
+
     /// Sample `index` of the pattern `p` (from [`Sampler::pattern`]).
     #[inline]
     pub fn sample_of(&self, p: u32, index: u32) -> Vec2 {
@@ -188,6 +212,24 @@ impl Sampler {
     }
 }
 
+dispatch! {
+    /// Samples `first..first + LANES` of the multi-jittered pattern `p` of
+    /// side `2^shift` (`shift > 0`), as [`multi_jittered`] makes them: the
+    /// same integer and IEEE operations on every lane, so the same bits,
+    /// but in the vector units.
+    fn multi_jittered_lanes(isa: Isa, p: u32, first: u32, shift: u32, correlated: bool) -> [Vec2; LANES] {
+        |_s| {
+            let (side, count) = (Pow2Side { shift }, Pow2Side { shift: 2 * shift });
+            let mut out = [Vec2::ZERO; LANES];
+            for (lane, o) in out.iter_mut().enumerate() {
+                let s = count.permute(first.wrapping_add(lane as u32), p);
+                *o = multi_jittered_on(side, s, p, correlated);
+            }
+            out
+        }
+    }
+}
+
 const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 
 #[inline]
@@ -199,22 +241,85 @@ fn to_unit(x: u32) -> f32 {
 /// column k of the coarse grid; within its cell, its x sub-column is a
 /// permutation of the rows (per column k, or one shared permutation when
 /// correlated) and its y sub-row a permutation of the columns.
-#[inline]
+#[inline(always)]
 fn multi_jittered(s: u32, n: u32, p: u32, correlated: bool) -> Vec2 {
-    let (j, k) = div_rem(s, n);
+    multi_jittered_on(AnySide(n), s, p, correlated)
+}
+
+/// [`multi_jittered`] on a grid of side `side`.
+#[inline(always)]
+fn multi_jittered_on(side: impl Side, s: u32, p: u32, correlated: bool) -> Vec2 {
+    let (j, k) = side.div_rem(s);
     let (px, py) = if correlated {
         (p.wrapping_mul(0xa511_e9b3), p.wrapping_mul(0x63d8_3595))
     } else {
         (hash(p ^ k.wrapping_mul(0xa511_e9b3)), hash(p ^ j.wrapping_mul(0x63d8_3595) ^ 0x5555_5555))
     };
-    let sx = permute(j, n, px);
-    let sy = permute(k, n, py);
+    let sx = side.permute(j, px);
+    let sy = side.permute(k, py);
     let jx = randfloat(s, p.wrapping_mul(0xa399_d265));
     let jy = randfloat(s, p.wrapping_mul(0x711a_d6a5));
     Vec2::new(
-        over(k as f32 + over(sx as f32 + jx, n), n).min(ONE_MINUS_EPSILON),
-        over(j as f32 + over(sy as f32 + jy, n), n).min(ONE_MINUS_EPSILON),
+        side.over(k as f32 + side.over(sx as f32 + jx)).min(ONE_MINUS_EPSILON),
+        side.over(j as f32 + side.over(sy as f32 + jy)).min(ONE_MINUS_EPSILON),
     )
+}
+
+/// The side `n` of a pattern's grid and what a sample does with it:
+/// [`div_rem`], [`over`] and [`permute`] by `n`.
+trait Side: Copy {
+    fn div_rem(self, x: u32) -> (u32, u32);
+    fn over(self, x: f32) -> f32;
+    fn permute(self, i: u32, p: u32) -> u32;
+}
+
+/// Any side.
+#[derive(Clone, Copy)]
+struct AnySide(u32);
+
+impl Side for AnySide {
+    #[inline(always)]
+    fn div_rem(self, x: u32) -> (u32, u32) {
+        div_rem(x, self.0)
+    }
+    #[inline(always)]
+    fn over(self, x: f32) -> f32 {
+        over(x, self.0)
+    }
+    #[inline(always)]
+    fn permute(self, i: u32, p: u32) -> u32 {
+        permute(i, self.0, p)
+    }
+}
+
+/// A power of two above 1, as a shift: the same results as [`AnySide`]
+/// without a branch, so a loop over lanes vectorizes.
+#[derive(Clone, Copy)]
+struct Pow2Side {
+    shift: u32,
+}
+
+impl Pow2Side {
+    #[inline(always)]
+    fn mask(self) -> u32 {
+        (1 << self.shift) - 1
+    }
+}
+
+impl Side for Pow2Side {
+    #[inline(always)]
+    fn div_rem(self, x: u32) -> (u32, u32) {
+        (x >> self.shift, x & self.mask())
+    }
+    #[inline(always)]
+    fn over(self, x: f32) -> f32 {
+        x * f32::from_bits((127 - self.shift) << 23)
+    }
+    /// [`permute`]'s cycle walk never takes a second round here.
+    #[inline(always)]
+    fn permute(self, i: u32, p: u32) -> u32 {
+        permute_round(i, self.mask(), p).wrapping_add(p) & self.mask()
+    }
 }
 
 /// Second Sobol dimension by its direction numbers' recurrence (generator
@@ -282,29 +387,36 @@ pub fn permute(mut i: u32, l: u32, p: u32) -> u32 {
     w |= w >> 8;
     w |= w >> 16;
     loop {
-        i ^= p;
-        i = i.wrapping_mul(0xe170_893d);
-        i ^= p >> 16;
-        i ^= (i & w) >> 4;
-        i ^= p >> 8;
-        i = i.wrapping_mul(0x0929_eb3f);
-        i ^= p >> 23;
-        i ^= (i & w) >> 1;
-        i = i.wrapping_mul(1 | p >> 27);
-        i = i.wrapping_mul(0x6935_fa69);
-        i ^= (i & w) >> 11;
-        i = i.wrapping_mul(0x74dc_b303);
-        i ^= (i & w) >> 2;
-        i = i.wrapping_mul(0x9e50_1cc3);
-        i ^= (i & w) >> 2;
-        i = i.wrapping_mul(0xc860_a3df);
-        i &= w;
-        i ^= i >> 5;
+        i = permute_round(i, w, p);
         if i < l {
             break;
         }
     }
     div_rem(i.wrapping_add(p), l).1
+}
+
+/// One round of [`permute`]'s bijection on `0..=w` (`w` all ones).
+#[inline(always)]
+fn permute_round(mut i: u32, w: u32, p: u32) -> u32 {
+    i ^= p;
+    i = i.wrapping_mul(0xe170_893d);
+    i ^= p >> 16;
+    i ^= (i & w) >> 4;
+    i ^= p >> 8;
+    i = i.wrapping_mul(0x0929_eb3f);
+    i ^= p >> 23;
+    i ^= (i & w) >> 1;
+    i = i.wrapping_mul(1 | p >> 27);
+    i = i.wrapping_mul(0x6935_fa69);
+    i ^= (i & w) >> 11;
+    i = i.wrapping_mul(0x74dc_b303);
+    i ^= (i & w) >> 2;
+    i = i.wrapping_mul(0x9e50_1cc3);
+    i ^= (i & w) >> 2;
+    i = i.wrapping_mul(0xc860_a3df);
+    i &= w;
+    i ^= i >> 5;
+    i
 }
 
 /// `(x / n, x % n)`, by shift and mask when `n` is a power of two (the
@@ -367,6 +479,47 @@ pub fn concentric_disk(u: Vec2) -> Vec2 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The multi-jittered patterns made lane-wise, on every instruction
+    /// set here, are [`Sampler::sample_of`]'s bit for bit: both kinds,
+    /// sides 2 to 32, many patterns, runs of samples starting anywhere in
+    /// the pattern (lanes past its end are made and left unused). Other
+    /// samplers and sides take the scalar path through `samples_of`.
+    #[test]
+    fn lane_wise_samples_are_the_scalar_samples() {
+        use crate::simd::Isa;
+        let mut p = 0x2545_f491u32;
+        for kind in SamplerKind::ALL.iter().copied() {
+            for n in [1u32, 2, 3, 4, 8, 16, 32] {
+                let (sampler, _) = Sampler::new(kind, n * n, 7);
+                let count = sampler.spp;
+                for _ in 0..20 {
+                    p = hash(p);
+                    let first = p % count;
+                    let len = (count - first).min(40);
+                    let want: Vec<Vec2> = (first..first + len).map(|i| sampler.sample_of(p, i)).collect();
+                    let mut got = vec![Vec2::ZERO; len as usize];
+                    sampler.samples_of(p, first, &mut got);
+                    assert_eq!(bits(&got), bits(&want), "{kind} {n}x{n}");
+                    let lane_wise =
+                        matches!(kind, SamplerKind::MultiJittered | SamplerKind::CorrelatedMultiJittered);
+                    if !lane_wise || n == 1 || !n.is_power_of_two() {
+                        continue;
+                    }
+                    let correlated = kind == SamplerKind::CorrelatedMultiJittered;
+                    let used = want.len().min(LANES);
+                    for isa in Isa::available() {
+                        let lanes = multi_jittered_lanes(isa, p, first, n.trailing_zeros(), correlated);
+                        assert_eq!(bits(&lanes[..used]), bits(&want[..used]), "{kind} {n}x{n} on {isa}");
+                    }
+                }
+            }
+        }
+    }
+
+    fn bits(v: &[Vec2]) -> Vec<[u32; 2]> {
+        v.iter().map(|u| [u.x.to_bits(), u.y.to_bits()]).collect()
+    }
 
     /// The shortcuts for powers of two give the bits of the plain
     /// division, and other counts take the plain division.
