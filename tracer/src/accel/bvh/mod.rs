@@ -17,7 +17,9 @@ use crate::stats::Counters;
 use crate::stopwatch::Stopwatch;
 use packet::PacketEntry;
 use wide::{Entry, Ray4, STACK};
-pub(crate) use wide::{Node4, MAX, MIN};
+pub(crate) use wide::Node4;
+#[cfg(feature = "gpu")]
+pub(crate) use wide::{MAX, MIN};
 
 /// Per-thread traversal stacks, allocated once: one for single rays, one
 /// for packets.
