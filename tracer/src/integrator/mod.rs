@@ -217,6 +217,7 @@ impl Whitted<'_> {
     /// Which rays a hit at `sp` spawns, given its refracted ray (`None` on
     /// total internal reflection or where its material transmits nothing)
     /// and its mirror ray: the rule of the module doc.
+    #[inline(always)]
     fn choose_rays(
         &self,
         sp: &ShadePoint,

@@ -198,6 +198,7 @@ impl Whitted<'_> {
 
     /// [`Whitted::spawn`] for lane `i` of a packet whose bounces were
     /// computed lane-wise ([`bounces`]).
+    #[inline(always)]
     fn spawn_lane(
         &self,
         sp: &ShadePoint,
