@@ -326,16 +326,23 @@ impl Whitted<'_> {
         }
     }
 
+    /// Light `k`'s position where every point sees it there: a point light
+    /// (no `--light-size` and no shape of its own).
+    #[inline]
+    fn fixed_light_position(&self, k: usize) -> Option<Vec3A> {
+        let light = &self.scene.lights[k];
+        (self.settings.light_size <= 0.0 && light.rect.is_none()).then_some(light.position)
+    }
+
     /// Where light `k` is seen from `p`: its position, or one sample of its
     /// area (P3D report §2.2: one light sample per light per primary
     /// sample, from the light's own dimension at this depth).
     #[inline]
     fn light_position(&self, k: usize, p: Vec3A, depth: u32, id: SampleId) -> Vec3A {
-        let light = &self.scene.lights[k];
-        let size = self.settings.light_size;
-        if size <= 0.0 && light.rect.is_none() {
-            return light.position;
+        if let Some(at) = self.fixed_light_position(k) {
+            return at;
         }
+        let (light, size) = (&self.scene.lights[k], self.settings.light_size);
         let n_lights = self.scene.lights.len() as u32;
         let dim = FIRST_LIGHT_DIMENSION + (depth - 1) * n_lights + k as u32;
         let u = self.sampler.sample(id.px, id.py, id.index, dim);

@@ -125,11 +125,17 @@ impl Whitted<'_> {
         shadow: &mut RayPacket,
         th: &mut ThreadState<I>,
     ) {
-        let mut pos = [Lanes::ZERO; 3];
+        // A point light is where it is in every lane: filled whole, not
+        // lane by lane (the kernel's vector loads would wait on those
+        // single-lane stores).
+        let fixed = self.fixed_light_position(k);
+        let mut pos = fixed.map_or([Lanes::ZERO; 3], |at| [0, 1, 2].map(|a| Lanes([at[a]; LANES])));
         let mut valid = 0;
         for (i, sp) in points.iter().enumerate() {
             let Some(sp) = sp else { continue };
-            set_lane(&mut pos, i, self.light_position(k, sp.p, depth, ids[i]));
+            if fixed.is_none() {
+                set_lane(&mut pos, i, self.light_position(k, sp.p, depth, ids[i]));
+            }
             valid |= 1 << i;
         }
         let mut dirs = LightLanes::default();

@@ -16,8 +16,8 @@ use crate::simd::lanes::Mask;
 use crate::stats::Counters;
 use crate::stopwatch::Stopwatch;
 use packet::PacketEntry;
-use wide::{Entry, Ray4, STACK};
 pub(crate) use wide::Node4;
+use wide::{Entry, Ray4, STACK};
 #[cfg(feature = "gpu")]
 pub(crate) use wide::{MAX, MIN};
 
