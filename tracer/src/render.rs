@@ -294,11 +294,9 @@ fn pixel<I: Intersector>(
     let mut colors = [Vec3A::ZERO; LANES];
     for first in (0..sampler.spp).step_by(LANES) {
         let n = (sampler.spp - first).min(LANES as u32) as usize;
-        let mut made = [((Ray { o: Vec3A::ZERO, d: Vec3A::Z }, 0.0), 0.0); LANES];
-        samples.rays(first, &mut made[..n]);
-        for (i, &((ray, t_min), weight)) in made[..n].iter().enumerate() {
-            (rays[i], w[i]) = ((ray, t_min, 1.0), weight);
-            ids[i].index = first + i as u32;
+        samples.rays(first, &mut rays[..n], &mut w[..n]);
+        for (i, id) in ids[..n].iter_mut().enumerate() {
+            id.index = first + i as u32;
         }
         trace_eye(shader, settings, &rays[..n], &ids[..n], th, &mut colors);
         for i in 0..n {
@@ -342,18 +340,20 @@ impl<'a> PixelSamples<'a> {
         self.ray_from(self.sampler.sample_of(self.position, index), lens)
     }
 
-    /// [`PixelSamples::ray`] of samples `first..first + out.len()`
-    /// (at most [`LANES`]), their pattern samples made together.
+    /// [`PixelSamples::ray`] of samples `first..first + rays.len()` (at
+    /// most [`LANES`]), their pattern samples made together: each eye ray
+    /// as `(ray, t_min, 1)` in `rays` and its filter weight in `weights`.
     #[inline]
-    pub(crate) fn rays(&self, first: u32, out: &mut [((Ray, f32), f32)]) {
-        let n = out.len();
+    pub(crate) fn rays(&self, first: u32, rays: &mut [(Ray, f32, f32)], weights: &mut [f32]) {
+        let n = rays.len();
         let (mut position, mut lens) = ([Vec2::ZERO; LANES], [Vec2::ZERO; LANES]);
         self.sampler.samples_of(self.position, first, &mut position[..n]);
         if let Some(p) = self.lens {
             self.sampler.samples_of(p, first, &mut lens[..n]);
         }
-        for ((o, &u), &l) in out.iter_mut().zip(&position).zip(&lens) {
-            *o = self.ray_from(u, l);
+        for (((r, w), &u), &l) in rays.iter_mut().zip(weights).zip(&position).zip(&lens) {
+            let ((ray, t_min), weight) = self.ray_from(u, l);
+            (*r, *w) = ((ray, t_min, 1.0), weight);
         }
     }
 

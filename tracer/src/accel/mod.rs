@@ -20,9 +20,7 @@
 mod brute;
 mod bvh;
 #[cfg(feature = "gpu")]
-pub(crate) use bvh::Node4;
-#[cfg(feature = "gpu")]
-pub(crate) use bvh::{MAX, MIN};
+pub(crate) use bvh::{Node4, MAX, MIN};
 mod grid;
 #[cfg(test)]
 mod tests;

@@ -30,6 +30,7 @@ use crate::stats::Counters;
 use crate::stopwatch::Stopwatch;
 use glam::Vec3A;
 use layout::{Params, SceneData, COUNTERS};
+use std::borrow::Cow;
 use std::sync::{Arc, Mutex};
 use wgpu::util::DeviceExt;
 
@@ -230,14 +231,15 @@ impl<'g> GpuScene<'g> {
             }
         };
         // A binding cannot be empty: a missing kind gets one zeroed element.
-        fn bytes_of<T: bytemuck::Pod>(v: &[T]) -> Vec<u8> {
+        // Otherwise the data is uploaded where it lies, not copied first.
+        fn bytes_of<T: bytemuck::Pod>(v: &[T]) -> Cow<'_, [u8]> {
             if v.is_empty() {
-                vec![0u8; std::mem::size_of::<T>().max(4)]
+                Cow::Owned(vec![0u8; std::mem::size_of::<T>().max(4)])
             } else {
-                bytemuck::cast_slice(v).to_vec()
+                Cow::Borrowed(bytemuck::cast_slice(v))
             }
         }
-        let storage = |label: &'static str, contents: Vec<u8>| -> Result<wgpu::Buffer, GpuError> {
+        let storage = |label: &'static str, contents: Cow<[u8]>| -> Result<wgpu::Buffer, GpuError> {
             fits(label, contents.len() as u64)?;
             Ok(device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(label),
