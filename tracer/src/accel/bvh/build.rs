@@ -11,7 +11,7 @@
 
 use crate::aabb::Aabb;
 use crate::geometry::Geometry;
-use glam::Vec3A;
+use glam::{BVec4A, Vec3A, Vec4};
 use rayon::prelude::*;
 
 const _: () = assert!(std::mem::size_of::<BuildPrim>() == 32);
@@ -41,36 +41,65 @@ const MAX_LEAF: usize = 4;
 /// Cost of a traversal step relative to a primitive test.
 const TRAVERSAL_COST: f32 = 1.0;
 
-/// A primitive's box and its id: 32 bytes, aligned so that moving one is
-/// two aligned 16-byte copies (the partition swaps one per primitive per
-/// level, and unaligned copies defeat store forwarding).
+/// A primitive's box and its id: 32 bytes, two aligned vectors whose
+/// fourth lanes carry the id and the sphere flag, so that reading a box is
+/// two aligned loads and a mask (not six scalar loads and shuffles), and
+/// moving one is two aligned 16-byte copies (the partition swaps one per
+/// primitive per level, and unaligned copies defeat store forwarding).
 #[derive(Clone, Copy)]
 #[repr(C, align(16))]
 pub(super) struct BuildPrim {
-    min: [f32; 3],
-    id: u32,
-    max: [f32; 3],
-    /// 1 for a sphere (see [`small_sphere_leaf`]), else 0; the box's
-    /// padding would hold it anyway.
-    sphere: u32,
+    /// Box minimum; the fourth lane holds the id's bits.
+    min: Vec4,
+    /// Box maximum; the fourth lane holds 1 for a sphere (see
+    /// [`small_sphere_leaf`]), else 0, as bits.
+    max: Vec4,
 }
+
+/// Keeps the first three lanes of a [`BuildPrim`] vector, clearing the
+/// fourth (an id's bits read as a float may be subnormal, and arithmetic
+/// on subnormals is slow).
+const XYZ: BVec4A = BVec4A::new(true, true, true, false);
 
 impl BuildPrim {
     #[inline(always)]
     fn new(bounds: Aabb, id: u32, sphere: bool) -> BuildPrim {
-        BuildPrim { min: bounds.min.into(), id, max: bounds.max.into(), sphere: sphere.into() }
+        BuildPrim {
+            min: bounds.min.extend(f32::from_bits(id)),
+            max: bounds.max.extend(f32::from_bits(sphere.into())),
+        }
+    }
+
+    #[inline(always)]
+    fn id(&self) -> u32 {
+        self.min.w.to_bits()
+    }
+
+    #[inline(always)]
+    fn is_sphere(&self) -> bool {
+        self.max.w.to_bits() != 0
+    }
+
+    #[inline(always)]
+    fn min(&self) -> Vec3A {
+        Vec3A::from_vec4(Vec4::select(XYZ, self.min, Vec4::ZERO))
+    }
+
+    #[inline(always)]
+    fn max(&self) -> Vec3A {
+        Vec3A::from_vec4(Vec4::select(XYZ, self.max, Vec4::ZERO))
     }
 
     #[inline(always)]
     fn bounds(&self) -> Aabb {
-        Aabb { min: Vec3A::from_array(self.min), max: Vec3A::from_array(self.max) }
+        Aabb { min: self.min(), max: self.max() }
     }
 
     /// Twice the centre of the box: binning only compares centroids, so
     /// the halving is left out.
     #[inline(always)]
     fn centroid(&self) -> Vec3A {
-        Vec3A::from_array(self.min) + Vec3A::from_array(self.max)
+        self.min() + self.max()
     }
 }
 
@@ -85,7 +114,7 @@ pub(super) fn build_prims(geom: &Geometry) -> Vec<BuildPrim> {
 
 /// The primitive ids in the array's (finally: leaf) order.
 pub(super) fn ids(prims: &[BuildPrim]) -> Vec<u32> {
-    prims.iter().map(|p| p.id).collect()
+    prims.iter().map(BuildPrim::id).collect()
 }
 
 /// A range's box and the box of its primitives' centroids (doubled, as
@@ -196,7 +225,7 @@ fn sah_split(prims: &mut [BuildPrim], boxes: &Boxes) -> Option<Split> {
 /// leaves cost them traversal speed.
 #[inline]
 fn small_sphere_leaf(prims: &[BuildPrim]) -> bool {
-    prims.len() <= MAX_LEAF && prims.iter().all(|p| p.sphere != 0)
+    prims.len() <= MAX_LEAF && prims.iter().all(BuildPrim::is_sphere)
 }
 
 /// [`sah_split`] with `NB` bins per axis.
@@ -241,9 +270,7 @@ fn split_with<const NB: usize>(prims: &mut [BuildPrim], boxes: &Boxes) -> Option
     if n <= MAX_LEAF && split_cost >= n as f32 {
         return None;
     }
-    let (lo, scale) = bin_frame::<NB>(cb);
-    let (mid, left_centroids, right_centroids) =
-        partition(prims, |c| goes_left::<NB>(c, lo, scale, axis, bin));
+    let (mid, left_centroids, right_centroids) = partition::<NB>(prims, cb, axis, bin);
     (mid > 0 && mid < n).then_some(Split {
         mid,
         left: Boxes { bounds: left_bounds, centroids: left_centroids },
@@ -284,15 +311,6 @@ fn rounded_bins<const NB: usize>(c: Vec3A, lo: Vec3A, scale: Vec3A) -> Vec3A {
     t + Vec3A::splat(ROUNDER)
 }
 
-/// Whether a centroid's bin on `axis` is at most `bin` (`bin < NB − 1`): the
-/// comparison made on the rounded floats, lane by lane, so the axis is
-/// picked from a mask (not read back from an array on the stack).
-#[inline(always)]
-fn goes_left<const NB: usize>(c: Vec3A, lo: Vec3A, scale: Vec3A, axis: usize, bin: usize) -> bool {
-    let at_most = rounded_bins::<NB>(c, lo, scale).cmple(Vec3A::splat(bin as f32 + ROUNDER));
-    at_most.bitmask() >> axis & 1 != 0
-}
-
 /// Bin the primitives' centroids along all three axes in one pass, into
 /// `NB` bins per axis.
 fn bin_all<const NB: usize>(prims: &[BuildPrim], cb: &Aabb) -> [[Bin; NB]; 3] {
@@ -300,13 +318,7 @@ fn bin_all<const NB: usize>(prims: &[BuildPrim], cb: &Aabb) -> [[Bin; NB]; 3] {
     let fill = |chunk: &[BuildPrim]| {
         let mut bins = [[EMPTY_BIN; NB]; 3];
         for p in chunk {
-            let bounds = p.bounds();
-            let index = bin_indices::<NB>(p.centroid(), lo, scale);
-            for (axis_bins, i) in bins.iter_mut().zip(index) {
-                let b = &mut axis_bins[i];
-                b.bounds = b.bounds.union(bounds);
-                b.count += 1;
-            }
+            add_to_bins(&mut bins, p, lo, scale);
         }
         bins
     };
@@ -316,17 +328,35 @@ fn bin_all<const NB: usize>(prims: &[BuildPrim], cb: &Aabb) -> [[Bin; NB]; 3] {
         prims.par_chunks(1 << 13).map(fill).reduce(
             || [[EMPTY_BIN; NB]; 3],
             |mut a, b| {
-                for (aa, ba) in a.iter_mut().zip(&b) {
-                    for (x, y) in aa.iter_mut().zip(ba) {
-                        x.bounds = x.bounds.union(y.bounds);
-                        x.count += y.count;
-                    }
-                }
+                merge_bins(&mut a, &b);
                 a
             },
         )
     } else {
         fill(prims)
+    }
+}
+
+/// Count `p` in its bin on each axis.
+#[inline(always)]
+fn add_to_bins<const NB: usize>(bins: &mut [[Bin; NB]; 3], p: &BuildPrim, lo: Vec3A, scale: Vec3A) {
+    let bounds = p.bounds();
+    let index = bin_indices::<NB>(p.centroid(), lo, scale);
+    for (axis_bins, i) in bins.iter_mut().zip(index) {
+        let b = &mut axis_bins[i];
+        b.bounds = b.bounds.union(bounds);
+        b.count += 1;
+    }
+}
+
+/// Add `more`'s primitives to `bins`.
+#[inline(always)]
+fn merge_bins<const NB: usize>(bins: &mut [[Bin; NB]; 3], more: &[[Bin; NB]; 3]) {
+    for (aa, ba) in bins.iter_mut().zip(more) {
+        for (x, y) in aa.iter_mut().zip(ba) {
+            x.bounds = x.bounds.union(y.bounds);
+            x.count += y.count;
+        }
     }
 }
 
@@ -339,26 +369,46 @@ fn boxes_of(prims: &[BuildPrim]) -> Boxes {
     Boxes { bounds, centroids }
 }
 
-/// In-place partition by a predicate on the centroid; returns the number of
-/// elements satisfying it and the centroid bounds of both parts.
-/// Branch-free (every element is swapped, the count advances by the
-/// predicate, the bounds grow by selection): the predicate is a coin toss
-/// for a good split, which a branch would mispredict half the time.
-fn partition(v: &mut [BuildPrim], pred: impl Fn(Vec3A) -> bool) -> (usize, Aabb, Aabb) {
+/// In-place partition: the primitives whose centroid's bin on `axis` is at
+/// most `bin` (`bin < NB − 1`) first. Returns their number and the centroid
+/// bounds of both parts.
+fn partition<const NB: usize>(
+    v: &mut [BuildPrim],
+    cb: &Aabb,
+    axis: usize,
+    bin: usize,
+) -> (usize, Aabb, Aabb) {
+    match axis {
+        0 => partition_on::<NB, 0>(v, cb, bin),
+        1 => partition_on::<NB, 1>(v, cb, bin),
+        _ => partition_on::<NB, 2>(v, cb, bin),
+    }
+}
+
+/// [`partition`] on axis `AXIS`. Branch-free (every element is swapped,
+/// the count advances by the comparison, the bounds grow by selection):
+/// the comparison is a coin toss for a good split, which a branch would
+/// mispredict half the time. It is made on the rounded floats of
+/// [`rounded_bins`], as binning made it, and its lane for the axis is
+/// broadcast into the mask the selections use.
+#[inline(always)]
+fn partition_on<const NB: usize, const AXIS: usize>(
+    v: &mut [BuildPrim],
+    cb: &Aabb,
+    bin: usize,
+) -> (usize, Aabb, Aabb) {
+    let (lo, scale) = bin_frame::<NB>(cb);
+    let limit = Vec3A::splat(bin as f32 + ROUNDER);
     let (mut left, mut right) = (Aabb::EMPTY, Aabb::EMPTY);
     let mut i = 0;
     for j in 0..v.len() {
         let c = v[j].centroid();
-        let go = pred(c);
+        let go = Vec3A::splat(rounded_bins::<NB>(c, lo, scale)[AXIS]).cmple(limit);
         let (l, r) = (left.grow(c), right.grow(c));
-        let mask = glam::BVec3A::splat(go);
-        left = Aabb { min: Vec3A::select(mask, l.min, left.min), max: Vec3A::select(mask, l.max, left.max) };
-        right =
-            Aabb { min: Vec3A::select(mask, right.min, r.min), max: Vec3A::select(mask, right.max, r.max) };
-        let (a, b) = (v[i], v[j]);
-        v[i] = b;
-        v[j] = a;
-        i += usize::from(go);
+        left = Aabb { min: Vec3A::select(go, l.min, left.min), max: Vec3A::select(go, l.max, left.max) };
+        right = Aabb { min: Vec3A::select(go, right.min, r.min), max: Vec3A::select(go, right.max, r.max) };
+        v.swap(i, j);
+        i += (go.bitmask() & 1) as usize;
     }
     (i, left, right)
 }
@@ -423,12 +473,11 @@ mod tests {
             .collect();
         let boxes = boxes_of(&prims);
         let bins = bin_all::<16>(&prims, &boxes.centroids);
-        let (lo, scale) = bin_frame::<16>(&boxes.centroids);
         for (axis, axis_bins) in bins.iter().enumerate() {
             for bin in 0..16 {
                 let expect: u32 = axis_bins[..=bin].iter().map(|b| b.count).sum();
                 let mut v = prims.clone();
-                let (mid, _, _) = partition(&mut v, |c| goes_left::<16>(c, lo, scale, axis, bin));
+                let (mid, _, _) = partition::<16>(&mut v, &boxes.centroids, axis, bin);
                 assert_eq!(mid as u32, expect, "axis {axis}, bin {bin}");
             }
         }
