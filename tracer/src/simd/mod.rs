@@ -35,15 +35,26 @@ pub enum Isa {
 }
 
 impl Isa {
-    /// Whether this processor can run code built for `self`.
+    /// Whether this processor can run code built for `self` (asked of the
+    /// processor once: every dispatched kernel call checks it).
+    #[inline]
     pub fn supported(self) -> bool {
+        static SETS: OnceLock<u8> = OnceLock::new();
+        let sets = *SETS.get_or_init(|| {
+            Isa::VARIANTS.iter().filter(|i| i.detected()).fold(0, |sets, &i| sets | 1 << i as u8)
+        });
+        sets >> self as u8 & 1 != 0
+    }
+
+    /// [`Isa::supported`], asking the processor.
+    fn detected(self) -> bool {
         match self {
             Isa::Portable => true,
             #[cfg(target_arch = "x86_64")]
             Isa::Avx2 => is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma"),
             #[cfg(target_arch = "x86_64")]
             Isa::Avx512 => {
-                Isa::Avx2.supported()
+                Isa::Avx2.detected()
                     && is_x86_feature_detected!("avx512f")
                     && is_x86_feature_detected!("avx512vl")
                     && is_x86_feature_detected!("avx512bw")
