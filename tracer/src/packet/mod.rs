@@ -191,8 +191,11 @@ impl RayConstants {
         self.negative |= group_bits::<V>(neg, g);
     }
 
-    /// Write each lane's permutation (`[kx, ky, kz]` of `RayQuery::new`).
-    pub(crate) fn finish(&self, out: &mut RayPacket) {
+    /// Write each lane's permutation (`[kx, ky, kz]` of `RayQuery::new`)
+    /// and make the lanes of `mask` the active ones. They share a
+    /// permutation when they agree on the major axis and on its sign,
+    /// which the masks say without comparing lanes.
+    pub(crate) fn finish(&self, out: &mut RayPacket, mask: Mask) {
         for i in 0..LANES {
             let bit = |m: Mask| m >> i & 1 != 0;
             let kz: u8 = if bit(self.x_major) {
@@ -205,6 +208,10 @@ impl RayConstants {
             let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
             out.k[i] = if bit(self.negative) { [ky, kx, kz] } else { [kx, ky, kz] };
         }
+        let uniform = |m: Mask| m & mask == 0 || m & mask == mask;
+        let shared = mask != 0 && uniform(self.x_major) && uniform(self.y_major) && uniform(self.negative);
+        out.active = mask;
+        out.shared_k = shared.then(|| out.k[mask.trailing_zeros() as usize].map(usize::from));
     }
 }
 
@@ -229,8 +236,7 @@ fn ray_constants_body<V: F32s>(s: Simd<V>, p: &mut RayPacket, mask: Mask) {
             constants.add(s, p, d, g);
         }
     }
-    constants.finish(p);
-    p.activate(mask);
+    constants.finish(p, mask);
 }
 
 crate::simd::dispatch! {

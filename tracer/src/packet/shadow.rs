@@ -99,8 +99,7 @@ fn shadow_rays_body<V: F32s>(
     }
     let counted = counted & valid;
     let rays = rays & counted;
-    constants.finish(out);
-    out.activate(rays);
+    constants.finish(out, rays);
     ShadowLanes { counted, rays }
 }
 
