@@ -135,8 +135,9 @@ impl RayPacket {
     }
 
     /// Make the lanes of `mask` the active ones, their values already in
-    /// place (see [`shadow`]).
-    pub fn activate(&mut self, mask: Mask) {
+    /// place (as [`RayPacket::set`] leaves them; the kernels activate theirs
+    /// through [`RayConstants::finish`]).
+    fn activate(&mut self, mask: Mask) {
         self.active = mask;
         let mut lanes = (0..LANES).filter(|i| mask >> i & 1 != 0).map(|i| self.k[i]);
         let first = lanes.next();
