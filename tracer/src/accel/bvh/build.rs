@@ -56,10 +56,14 @@ pub(super) struct BuildPrim {
     max: Vec4,
 }
 
-/// Keeps the first three lanes of a [`BuildPrim`] vector, clearing the
-/// fourth (an id's bits read as a float may be subnormal, and arithmetic
-/// on subnormals is slow).
-const XYZ: BVec4A = BVec4A::new(true, true, true, false);
+/// The first three lanes of a [`BuildPrim`] vector, the fourth cleared (an
+/// id's bits read as a float may be subnormal, and arithmetic on
+/// subnormals is slow).
+#[inline(always)]
+fn xyz(v: Vec4) -> Vec3A {
+    const XYZ: BVec4A = BVec4A::new(true, true, true, false);
+    Vec3A::from_vec4(Vec4::select(XYZ, v, Vec4::ZERO))
+}
 
 impl BuildPrim {
     #[inline(always)]
@@ -81,25 +85,15 @@ impl BuildPrim {
     }
 
     #[inline(always)]
-    fn min(&self) -> Vec3A {
-        Vec3A::from_vec4(Vec4::select(XYZ, self.min, Vec4::ZERO))
-    }
-
-    #[inline(always)]
-    fn max(&self) -> Vec3A {
-        Vec3A::from_vec4(Vec4::select(XYZ, self.max, Vec4::ZERO))
-    }
-
-    #[inline(always)]
     fn bounds(&self) -> Aabb {
-        Aabb { min: self.min(), max: self.max() }
+        Aabb { min: xyz(self.min), max: xyz(self.max) }
     }
 
     /// Twice the centre of the box: binning only compares centroids, so
     /// the halving is left out.
     #[inline(always)]
     fn centroid(&self) -> Vec3A {
-        self.min() + self.max()
+        xyz(self.min) + xyz(self.max)
     }
 }
 
