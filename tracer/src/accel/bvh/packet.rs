@@ -19,12 +19,21 @@ use crate::simd::lanes::{for_lanes, Mask, LANES};
 use crate::simd::vector::{group_bits, F32s, Simd};
 use crate::simd::Isa;
 
-/// A node reached by this many lanes or fewer is finished ray by ray
+/// The most lanes a node may be reached by and be finished ray by ray
 /// (Benthin, Wald, Woop, Ernst and Mark, "Combining Single and Packet-Ray
 /// Tracing for Arbitrary Ray Distributions on the Intel MIC
 /// Architecture", 2012): vectors over sixteen lanes cost more than a few
-/// single-ray traversals.
-const SINGLE_AT_MOST: u32 = 2;
+/// single-ray traversals. Where one vector holds all sixteen lanes, a
+/// packet step costs the same however few lanes are left, and already two
+/// single-ray walks cost more than it: only a lone lane goes on alone.
+#[inline(always)]
+fn single_at_most<V: F32s>() -> u32 {
+    if V::W >= LANES {
+        1
+    } else {
+        2
+    }
+}
 
 /// An entry of the packet traversal stack: a node or a leaf with the
 /// nearest entry distance of the lanes that entered its box (a single-ray
@@ -128,7 +137,7 @@ fn traverse<V: F32s, H: LaneHits>(
         if mask == 0 {
             continue;
         }
-        if mask.count_ones() <= SINGLE_AT_MOST {
+        if mask.count_ones() <= single_at_most::<V>() {
             // Too few lanes left for vectors to pay: finish them alone.
             for_lanes(mask, |i| {
                 let (q, t_max) = (&p.query(i), p.t_max.0[i]);
