@@ -10,6 +10,10 @@
 /// glibc's per-thread arenas grow a page range at a time (a system call and
 /// a lock on the address space each). Declared here, in the library every
 /// binary links, so all of them (and the tests) use the same allocator.
+/// Built without transparent huge pages (the crate's `no_thp`): a render's
+/// heap is sparse, and a huge page is zeroed whole when first touched, so
+/// asking for them doubled a small scene's resident memory and the
+/// kernel's time zeroing it.
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
