@@ -59,7 +59,7 @@ pub(crate) struct RayPacket {
     pub shared_k: Option<[usize; 3]>,
     /// Each lane's axis permutation of the triangle test (see
     /// [`RayQuery::k`]), for rebuilding its query.
-    pub k: [[u8; 3]; LANES],
+    pub k: Permutations,
 }
 
 impl RayPacket {
@@ -75,7 +75,7 @@ impl RayPacket {
             neg: [0; 3],
             active: 0,
             shared_k: None,
-            k: [[0; 3]; LANES],
+            k: Permutations::default(),
         }
     }
 
@@ -108,7 +108,7 @@ impl RayPacket {
         }
         self.t_min.0[i] = q.t_min;
         self.t_max.0[i] = t_max;
-        self.k[i] = q.k.map(|a| a as u8);
+        self.k.set(i, q.k);
         self.activate(self.active | 1 << i);
     }
 
@@ -120,7 +120,7 @@ impl RayPacket {
             ray: Ray { o: lane(&self.o, i), d: lane(&self.d, i) },
             inv_d: lane(&self.inv, i),
             neg: [0, 1, 2].map(|a| self.neg[a] >> i & 1 != 0),
-            k: self.k[i].map(usize::from),
+            k: self.k.lane(i),
             shear: lane(&self.shear, i),
             t_min: self.t_min.0[i],
         }
@@ -135,13 +135,10 @@ impl RayPacket {
     }
 
     /// Make the lanes of `mask` the active ones, their values already in
-    /// place (as [`RayPacket::set`] leaves them; the kernels activate theirs
-    /// through [`RayConstants::finish`]).
+    /// place.
     fn activate(&mut self, mask: Mask) {
         self.active = mask;
-        let mut lanes = (0..LANES).filter(|i| mask >> i & 1 != 0).map(|i| self.k[i]);
-        let first = lanes.next();
-        self.shared_k = first.filter(|k| lanes.all(|o| o == *k)).map(|k| k.map(usize::from));
+        self.shared_k = self.k.shared(mask);
     }
 
     /// Number of lanes in use (highest active lane + 1).
@@ -155,16 +152,58 @@ impl RayPacket {
     }
 }
 
-/// The per-ray constants of [`RayQuery::new`] computed lane-wise, bit for
-/// bit: 1/d clamped, its signs, and the watertight triangle test's axis
-/// permutation and shear. [`RayConstants::add`] computes a vector group's
-/// (storing 1/d, its signs and the shear at once) and gathers which axis
-/// each lane permutes to; [`RayConstants::finish`] writes the permutations.
-#[derive(Default)]
-pub(crate) struct RayConstants {
+/// Each lane's axis permutation of the watertight triangle test
+/// (`[kx, ky, kz]` of [`RayQuery::new`]) as three masks: the lanes whose
+/// direction is largest along x, along y (else z), and negative along that
+/// axis. The kernels set them a vector group at a time; a lane's
+/// permutation is read from them only when the lane needs its own query.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub(crate) struct Permutations {
     x_major: Mask,
     y_major: Mask,
     negative: Mask,
+}
+
+/// `[kx, ky, kz]` by major axis `kz` and its sign, at `2 kz + negative`:
+/// `kx, ky` follow `kz` cyclically, swapped where the direction along `kz`
+/// is negative (which keeps the triangles' winding).
+const PERMUTATIONS: [[usize; 3]; 6] = [[1, 2, 0], [2, 1, 0], [2, 0, 1], [0, 2, 1], [0, 1, 2], [1, 0, 2]];
+
+impl Permutations {
+    /// Lane `i`'s permutation.
+    #[inline(always)]
+    pub fn lane(&self, i: usize) -> [usize; 3] {
+        let bit = |m: Mask| (m >> i & 1) as usize;
+        // The major-axis masks exclude each other.
+        let kz = 2 - 2 * bit(self.x_major) - bit(self.y_major);
+        PERMUTATIONS[2 * kz + bit(self.negative)]
+    }
+
+    /// Give lane `i` permutation `k` (one of [`PERMUTATIONS`]).
+    fn set(&mut self, i: usize, k: [usize; 3]) {
+        let at = |m: &mut Mask, on: bool| *m = *m & !(1 << i) | Mask::from(on) << i;
+        at(&mut self.x_major, k[2] == 0);
+        at(&mut self.y_major, k[2] == 1);
+        at(&mut self.negative, PERMUTATIONS[2 * k[2] + 1] == k);
+    }
+
+    /// The permutation every lane of `mask` has, if they share one: they
+    /// do when they agree on the major axis and on its sign.
+    fn shared(&self, mask: Mask) -> Option<[usize; 3]> {
+        let uniform = |m: Mask| m & mask == 0 || m & mask == mask;
+        let shared = mask != 0 && uniform(self.x_major) && uniform(self.y_major) && uniform(self.negative);
+        shared.then(|| self.lane(mask.trailing_zeros() as usize))
+    }
+}
+
+/// The per-ray constants of [`RayQuery::new`] computed lane-wise, bit for
+/// bit: 1/d clamped, its signs, and the watertight triangle test's axis
+/// permutation and shear. [`RayConstants::add`] computes a vector group's
+/// (storing 1/d, its signs and the shear at once) and gathers each lane's
+/// permutation; [`RayConstants::finish`] hands the permutations over.
+#[derive(Default)]
+pub(crate) struct RayConstants {
+    k: Permutations,
 }
 
 impl RayConstants {
@@ -187,32 +226,17 @@ impl RayConstants {
         dx.div(dz).store(&mut out.shear[0].0, g);
         dy.div(dz).store(&mut out.shear[1].0, g);
         s.splat(1.0).div(dz).store(&mut out.shear[2].0, g);
-        self.x_major |= group_bits::<V>(x_major, g);
-        self.y_major |= group_bits::<V>(y_major, g);
-        self.negative |= group_bits::<V>(neg, g);
+        self.k.x_major |= group_bits::<V>(x_major, g);
+        self.k.y_major |= group_bits::<V>(y_major, g);
+        self.k.negative |= group_bits::<V>(neg, g);
     }
 
-    /// Write each lane's permutation (`[kx, ky, kz]` of `RayQuery::new`)
-    /// and make the lanes of `mask` the active ones. They share a
-    /// permutation when they agree on the major axis and on its sign,
-    /// which the masks say without comparing lanes.
+    /// Write the lanes' permutations and make the lanes of `mask` the
+    /// active ones.
     pub(crate) fn finish(&self, out: &mut RayPacket, mask: Mask) {
-        for i in 0..LANES {
-            let bit = |m: Mask| m >> i & 1 != 0;
-            let kz: u8 = if bit(self.x_major) {
-                0
-            } else if bit(self.y_major) {
-                1
-            } else {
-                2
-            };
-            let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
-            out.k[i] = if bit(self.negative) { [ky, kx, kz] } else { [kx, ky, kz] };
-        }
-        let uniform = |m: Mask| m & mask == 0 || m & mask == mask;
-        let shared = mask != 0 && uniform(self.x_major) && uniform(self.y_major) && uniform(self.negative);
+        out.k = self.k;
         out.active = mask;
-        out.shared_k = shared.then(|| out.k[mask.trailing_zeros() as usize].map(usize::from));
+        out.shared_k = self.k.shared(mask);
     }
 }
 
@@ -394,6 +418,23 @@ mod tests {
         let mut q = p.clone();
         q.set(5, RayQuery::new(Ray::new(Vec3A::ZERO, Vec3A::X), 0.0), 1.0);
         assert_eq!(q.shared_k, None);
+    }
+
+    /// A permutation set in a lane reads back, without touching the other
+    /// lanes', and lanes share one exactly when they were given the same.
+    #[test]
+    fn permutations_set_read_back_and_share() {
+        let mut k = Permutations::default();
+        for (i, perm) in PERMUTATIONS.iter().cycle().take(LANES).enumerate() {
+            k.set(i, *perm);
+        }
+        for (i, perm) in PERMUTATIONS.iter().cycle().take(LANES).enumerate() {
+            assert_eq!(k.lane(i), *perm, "lane {i}");
+        }
+        // Lanes 0, 6 and 12 hold the first permutation; 1 the second.
+        assert_eq!(k.shared(1 | 1 << 6 | 1 << 12), Some(PERMUTATIONS[0]));
+        assert_eq!(k.shared(0b11), None);
+        assert_eq!(k.shared(0), None);
     }
 
     proptest! {
