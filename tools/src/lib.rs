@@ -11,9 +11,9 @@
 /// a lock on the address space each). Declared here, in the library every
 /// binary links, so all of them (and the tests) use the same allocator.
 /// Built without transparent huge pages (the crate's `no_thp`): a render's
-/// heap is sparse, and a huge page is zeroed whole when first touched, so
-/// asking for them doubled a small scene's resident memory and the
-/// kernel's time zeroing it.
+/// heap is sparse, and the kernel zeroes a huge page whole when it is
+/// first touched, so huge pages cost memory and system time for the parts
+/// of each that are never written.
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
