@@ -134,8 +134,8 @@ impl RayPacket {
         self.shared_k = None;
     }
 
-    /// Make the lanes of `mask` the active ones, their values already in
-    /// place.
+    /// Make the lanes of `mask` the active ones, their values (and
+    /// permutations) already in place.
     fn activate(&mut self, mask: Mask) {
         self.active = mask;
         self.shared_k = self.k.shared(mask);
@@ -235,8 +235,7 @@ impl RayConstants {
     /// active ones.
     pub(crate) fn finish(&self, out: &mut RayPacket, mask: Mask) {
         out.k = self.k;
-        out.active = mask;
-        out.shared_k = self.k.shared(mask);
+        out.activate(mask);
     }
 }
 
