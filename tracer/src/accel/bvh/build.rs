@@ -380,11 +380,11 @@ fn partition<const NB: usize>(
 }
 
 /// [`partition`] on axis `AXIS`. Branch-free (every element is swapped,
-/// the count advances by the comparison, the bounds grow by selection):
-/// the comparison is a coin toss for a good split, which a branch would
-/// mispredict half the time. It is made on the rounded floats of
-/// [`rounded_bins`], as binning made it, and its lane for the axis is
-/// broadcast into the mask the selections use.
+/// the count advances by the comparison): the comparison is a coin toss
+/// for a good split, which a branch would mispredict half the time. It is
+/// made on the rounded floats of [`rounded_bins`], as binning made it. The
+/// parts' centroid boxes are gathered after the loop, which then only
+/// moves primitives.
 #[inline(always)]
 fn partition_on<const NB: usize, const AXIS: usize>(
     v: &mut [BuildPrim],
@@ -392,19 +392,29 @@ fn partition_on<const NB: usize, const AXIS: usize>(
     bin: usize,
 ) -> (usize, Aabb, Aabb) {
     let (lo, scale) = bin_frame::<NB>(cb);
-    let limit = Vec3A::splat(bin as f32 + ROUNDER);
-    let (mut left, mut right) = (Aabb::EMPTY, Aabb::EMPTY);
+    let limit = bin as f32 + ROUNDER;
     let mut i = 0;
     for j in 0..v.len() {
-        let c = v[j].centroid();
-        let go = Vec3A::splat(rounded_bins::<NB>(c, lo, scale)[AXIS]).cmple(limit);
-        let (l, r) = (left.grow(c), right.grow(c));
-        left = Aabb { min: Vec3A::select(go, l.min, left.min), max: Vec3A::select(go, l.max, left.max) };
-        right = Aabb { min: Vec3A::select(go, right.min, r.min), max: Vec3A::select(go, right.max, r.max) };
+        let go = rounded_bins::<NB>(v[j].centroid(), lo, scale)[AXIS] <= limit;
         v.swap(i, j);
-        i += (go.bitmask() & 1) as usize;
+        i += usize::from(go);
     }
-    (i, left, right)
+    (i, centroid_bounds(&v[..i]), centroid_bounds(&v[i..]))
+}
+
+/// The box of the primitives' centroids, gathered four at a time.
+fn centroid_bounds(prims: &[BuildPrim]) -> Aabb {
+    let mut acc = [Aabb::EMPTY; 4];
+    let quads = prims.chunks_exact(4);
+    for (a, p) in acc.iter_mut().zip(quads.remainder()) {
+        *a = a.grow(p.centroid());
+    }
+    for q in quads {
+        for (a, p) in acc.iter_mut().zip(q) {
+            *a = a.grow(p.centroid());
+        }
+    }
+    acc[0].union(acc[1]).union(acc[2].union(acc[3]))
 }
 
 #[cfg(test)]
