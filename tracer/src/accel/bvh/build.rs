@@ -464,7 +464,8 @@ mod tests {
     }
 
     /// The partition sends left exactly the primitives binning counted in
-    /// the bins up to the split, on every axis and split bin.
+    /// the bins up to the split, on every axis and split bin, keeps every
+    /// primitive, and gives each part the box of its own centroids.
     #[test]
     fn partition_agrees_with_binning() {
         let prims: Vec<BuildPrim> = (0..500u32)
@@ -481,8 +482,21 @@ mod tests {
             for bin in 0..16 {
                 let expect: u32 = axis_bins[..=bin].iter().map(|b| b.count).sum();
                 let mut v = prims.clone();
-                let (mid, _, _) = partition::<16>(&mut v, &boxes.centroids, axis, bin);
+                let (mid, left, right) = partition::<16>(&mut v, &boxes.centroids, axis, bin);
                 assert_eq!(mid as u32, expect, "axis {axis}, bin {bin}");
+                let mut ids: Vec<u32> = v.iter().map(BuildPrim::id).collect();
+                ids.sort_unstable();
+                assert!(ids.iter().copied().eq(0..500), "a permutation");
+                let (lo, scale) = bin_frame::<16>(&boxes.centroids);
+                let side = |p: &BuildPrim| bin_indices::<16>(p.centroid(), lo, scale)[axis] <= bin;
+                assert!(v[..mid].iter().all(side) && !v[mid..].iter().any(side), "axis {axis}, bin {bin}");
+                let centroids =
+                    |part: &[BuildPrim]| part.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid()));
+                assert_eq!(
+                    (left, right),
+                    (centroids(&v[..mid]), centroids(&v[mid..])),
+                    "axis {axis}, bin {bin}"
+                );
             }
         }
     }
