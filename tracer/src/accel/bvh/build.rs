@@ -6,8 +6,9 @@
 //! (a large scene's peak memory is the smaller for it).
 //!
 //! A node's primitives are a range of the [`BuildPrim`] array; splitting
-//! it partitions that range in place, so the leaves end up as ranges too,
-//! and the array's order is the primitive order leaves index.
+//! it partitions that range in place (in parallel near the root too), so
+//! the leaves end up as ranges, and the array's order is the primitive
+//! order leaves index.
 
 use crate::aabb::Aabb;
 use crate::geometry::Geometry;
@@ -379,12 +380,19 @@ fn partition<const NB: usize>(
     }
 }
 
-/// [`partition`] on axis `AXIS`. Branch-free (every element is swapped,
-/// the count advances by the comparison): the comparison is a coin toss
-/// for a good split, which a branch would mispredict half the time. It is
-/// made on the rounded floats of [`rounded_bins`], as binning made it. The
-/// parts' centroid boxes are gathered after the loop, which then only
-/// moves primitives.
+/// Ranges larger than this are partitioned on all cores.
+const PARALLEL_PARTITION: usize = 1 << 15;
+/// The blocks a parallel partition cuts its range into. A fixed size, so
+/// the order it leaves does not depend on the thread count.
+const PARTITION_BLOCK: usize = 1 << 13;
+
+/// [`partition`] on axis `AXIS`. The parts' centroid boxes are gathered
+/// after the primitives are moved.
+///
+/// A large range is partitioned block by block on all cores; the
+/// primitives then on the wrong side of the split (the right-going ones of
+/// blocks before it, the left-going ones of blocks after it) are swapped
+/// pairwise, each moved once.
 #[inline(always)]
 fn partition_on<const NB: usize, const AXIS: usize>(
     v: &mut [BuildPrim],
@@ -393,13 +401,54 @@ fn partition_on<const NB: usize, const AXIS: usize>(
 ) -> (usize, Aabb, Aabb) {
     let (lo, scale) = bin_frame::<NB>(cb);
     let limit = bin as f32 + ROUNDER;
+    if v.len() <= PARALLEL_PARTITION {
+        let mid = partition_block::<NB, AXIS>(v, lo, scale, limit);
+        return (mid, centroid_bounds(&v[..mid]), centroid_bounds(&v[mid..]));
+    }
+    let lefts: Vec<usize> =
+        v.par_chunks_mut(PARTITION_BLOCK).map(|b| partition_block::<NB, AXIS>(b, lo, scale, limit)).collect();
+    let mid: usize = lefts.iter().sum();
+    // Positions of the misplaced primitives, block by block: right-going
+    // ones before `mid`, left-going ones from `mid` on.
+    let n = v.len();
+    let block = |k: usize| (k * PARTITION_BLOCK, ((k + 1) * PARTITION_BLOCK).min(n));
+    let wrong_right = lefts.iter().enumerate().flat_map(|(k, &l)| {
+        let (start, end) = block(k);
+        start + l..end.min(mid)
+    });
+    let wrong_left = lefts.iter().enumerate().flat_map(|(k, &l)| {
+        let (start, _) = block(k);
+        start.max(mid)..start + l
+    });
+    let (front, back) = v.split_at_mut(mid);
+    for (i, j) in wrong_right.zip(wrong_left) {
+        std::mem::swap(&mut front[i], &mut back[j - mid]);
+    }
+    let par_bounds = |part: &[BuildPrim]| {
+        part.par_chunks(PARTITION_BLOCK).map(centroid_bounds).reduce(|| Aabb::EMPTY, Aabb::union)
+    };
+    (mid, par_bounds(&v[..mid]), par_bounds(&v[mid..]))
+}
+
+/// Partition `v` in place, the primitives whose centroid's bin on `AXIS`
+/// (as [`rounded_bins`] gives it, with [`ROUNDER`]) is at most `limit`
+/// first; their number. Branch-free (every element is swapped, the count
+/// advances by the comparison): the comparison is a coin toss for a good
+/// split, which a branch would mispredict half the time.
+#[inline(always)]
+fn partition_block<const NB: usize, const AXIS: usize>(
+    v: &mut [BuildPrim],
+    lo: Vec3A,
+    scale: Vec3A,
+    limit: f32,
+) -> usize {
     let mut i = 0;
     for j in 0..v.len() {
         let go = rounded_bins::<NB>(v[j].centroid(), lo, scale)[AXIS] <= limit;
         v.swap(i, j);
         i += usize::from(go);
     }
-    (i, centroid_bounds(&v[..i]), centroid_bounds(&v[i..]))
+    i
 }
 
 /// The box of the primitives' centroids, gathered four at a time.
@@ -465,38 +514,53 @@ mod tests {
 
     /// The partition sends left exactly the primitives binning counted in
     /// the bins up to the split, on every axis and split bin, keeps every
-    /// primitive, and gives each part the box of its own centroids.
+    /// primitive, and gives each part the box of its own centroids: on a
+    /// small range, and on one large enough to be partitioned block by
+    /// block (half of it in runs, half scattered, so primitives end up on
+    /// the wrong side of the split both ways).
     #[test]
     fn partition_agrees_with_binning() {
-        let prims: Vec<BuildPrim> = (0..500u32)
+        let prim = |i: u32, f: f32| {
+            let c = Vec3A::new((f * 0.37).sin(), (f * 0.11).cos() * 3.0, (f * 0.05).fract());
+            let r = 0.01 + (f * 0.7).sin().abs() * 0.1;
+            BuildPrim::new(Aabb { min: c - Vec3A::splat(r), max: c + Vec3A::splat(r) }, i, false)
+        };
+        let small: Vec<BuildPrim> = (0..500).map(|i| prim(i, i as f32)).collect();
+        let n = PARALLEL_PARTITION as u32 * 3 / 2;
+        let large: Vec<BuildPrim> = (0..n)
             .map(|i| {
-                let f = i as f32;
-                let c = Vec3A::new((f * 0.37).sin(), (f * 0.11).cos() * 3.0, (f * 0.05).fract());
-                let r = 0.01 + (f * 0.7).sin().abs() * 0.1;
-                BuildPrim::new(Aabb { min: c - Vec3A::splat(r), max: c + Vec3A::splat(r) }, i, false)
+                prim(
+                    i,
+                    if i < n / 2 { i as f32 * 1e-4 } else { (i.wrapping_mul(2_654_435_761) % 9973) as f32 },
+                )
             })
             .collect();
-        let boxes = boxes_of(&prims);
-        let bins = bin_all::<16>(&prims, &boxes.centroids);
-        for (axis, axis_bins) in bins.iter().enumerate() {
-            for bin in 0..16 {
-                let expect: u32 = axis_bins[..=bin].iter().map(|b| b.count).sum();
-                let mut v = prims.clone();
-                let (mid, left, right) = partition::<16>(&mut v, &boxes.centroids, axis, bin);
-                assert_eq!(mid as u32, expect, "axis {axis}, bin {bin}");
-                let mut ids: Vec<u32> = v.iter().map(BuildPrim::id).collect();
-                ids.sort_unstable();
-                assert!(ids.iter().copied().eq(0..500), "a permutation");
-                let (lo, scale) = bin_frame::<16>(&boxes.centroids);
-                let side = |p: &BuildPrim| bin_indices::<16>(p.centroid(), lo, scale)[axis] <= bin;
-                assert!(v[..mid].iter().all(side) && !v[mid..].iter().any(side), "axis {axis}, bin {bin}");
-                let centroids =
-                    |part: &[BuildPrim]| part.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid()));
-                assert_eq!(
-                    (left, right),
-                    (centroids(&v[..mid]), centroids(&v[mid..])),
-                    "axis {axis}, bin {bin}"
-                );
+        for prims in [small, large] {
+            let boxes = boxes_of(&prims);
+            let bins = bin_all::<16>(&prims, &boxes.centroids);
+            let (lo, scale) = bin_frame::<16>(&boxes.centroids);
+            for (axis, axis_bins) in bins.iter().enumerate() {
+                for bin in 0..16 {
+                    let expect: u32 = axis_bins[..=bin].iter().map(|b| b.count).sum();
+                    let mut v = prims.clone();
+                    let (mid, left, right) = partition::<16>(&mut v, &boxes.centroids, axis, bin);
+                    assert_eq!(mid as u32, expect, "axis {axis}, bin {bin}");
+                    let mut ids: Vec<u32> = v.iter().map(BuildPrim::id).collect();
+                    ids.sort_unstable();
+                    assert!(ids.iter().copied().eq(0..prims.len() as u32), "a permutation");
+                    let side = |p: &BuildPrim| bin_indices::<16>(p.centroid(), lo, scale)[axis] <= bin;
+                    assert!(
+                        v[..mid].iter().all(side) && !v[mid..].iter().any(side),
+                        "axis {axis}, bin {bin}"
+                    );
+                    let centroids =
+                        |part: &[BuildPrim]| part.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid()));
+                    assert_eq!(
+                        (left, right),
+                        (centroids(&v[..mid]), centroids(&v[mid..])),
+                        "axis {axis}, bin {bin}"
+                    );
+                }
             }
         }
     }

@@ -465,6 +465,20 @@ mod tests {
         assert_eq!(sah_cost(&[]), 0.0);
     }
 
+    /// The tree and the primitive order do not depend on how many threads
+    /// build them, with ranges large enough to be binned and partitioned
+    /// on all cores.
+    #[test]
+    fn the_tree_does_not_depend_on_the_thread_count() {
+        let g = clustered_spheres(3 * (1 << 15));
+        let on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a thread pool");
+            pool.install(|| Node4::build(&g))
+        };
+        let one = on(1);
+        assert!(one == on(3), "one thread against three");
+    }
+
     /// Building subtrees in parallel (down to tiny ones here) lays out the
     /// very nodes the sequential build does: the links between parts are
     /// right, and the tree does not depend on the thread count.
