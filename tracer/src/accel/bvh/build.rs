@@ -388,11 +388,6 @@ const PARTITION_BLOCK: usize = 1 << 13;
 
 /// [`partition`] on axis `AXIS`. The parts' centroid boxes are gathered
 /// after the primitives are moved.
-///
-/// A large range is partitioned block by block on all cores; the
-/// primitives then on the wrong side of the split (the right-going ones of
-/// blocks before it, the left-going ones of blocks after it) are swapped
-/// pairwise, each moved once.
 #[inline(always)]
 fn partition_on<const NB: usize, const AXIS: usize>(
     v: &mut [BuildPrim],
@@ -401,33 +396,40 @@ fn partition_on<const NB: usize, const AXIS: usize>(
 ) -> (usize, Aabb, Aabb) {
     let (lo, scale) = bin_frame::<NB>(cb);
     let limit = bin as f32 + ROUNDER;
-    if v.len() <= PARALLEL_PARTITION {
-        let mid = partition_block::<NB, AXIS>(v, lo, scale, limit);
-        return (mid, centroid_bounds(&v[..mid]), centroid_bounds(&v[mid..]));
+    if v.len() > PARALLEL_PARTITION {
+        return partition_in_blocks::<NB, AXIS>(v, lo, scale, limit);
     }
+    let mid = partition_block::<NB, AXIS>(v, lo, scale, limit);
+    (mid, centroid_bounds(&v[..mid]), centroid_bounds(&v[mid..]))
+}
+
+/// [`partition_on`] for a large range, on all cores: block by block, then
+/// the primitives left on the wrong side of the split (the right-going
+/// ones of blocks before it, the left-going ones of blocks after it) are
+/// swapped pairwise, each moved once.
+fn partition_in_blocks<const NB: usize, const AXIS: usize>(
+    v: &mut [BuildPrim],
+    lo: Vec3A,
+    scale: Vec3A,
+    limit: f32,
+) -> (usize, Aabb, Aabb) {
     let lefts: Vec<usize> =
         v.par_chunks_mut(PARTITION_BLOCK).map(|b| partition_block::<NB, AXIS>(b, lo, scale, limit)).collect();
-    let mid: usize = lefts.iter().sum();
-    // Positions of the misplaced primitives, block by block: right-going
-    // ones before `mid`, left-going ones from `mid` on.
-    let n = v.len();
-    let block = |k: usize| (k * PARTITION_BLOCK, ((k + 1) * PARTITION_BLOCK).min(n));
+    let (n, mid) = (v.len(), lefts.iter().sum());
+    let block_start = |k: usize| k * PARTITION_BLOCK;
     let wrong_right = lefts.iter().enumerate().flat_map(|(k, &l)| {
-        let (start, end) = block(k);
-        start + l..end.min(mid)
+        let end = (block_start(k) + PARTITION_BLOCK).min(n);
+        block_start(k) + l..end.min(mid)
     });
-    let wrong_left = lefts.iter().enumerate().flat_map(|(k, &l)| {
-        let (start, _) = block(k);
-        start.max(mid)..start + l
-    });
+    let wrong_left = lefts.iter().enumerate().flat_map(|(k, &l)| block_start(k).max(mid)..block_start(k) + l);
     let (front, back) = v.split_at_mut(mid);
     for (i, j) in wrong_right.zip(wrong_left) {
         std::mem::swap(&mut front[i], &mut back[j - mid]);
     }
-    let par_bounds = |part: &[BuildPrim]| {
+    let bounds = |part: &[BuildPrim]| {
         part.par_chunks(PARTITION_BLOCK).map(centroid_bounds).reduce(|| Aabb::EMPTY, Aabb::union)
     };
-    (mid, par_bounds(&v[..mid]), par_bounds(&v[mid..]))
+    (mid, bounds(&v[..mid]), bounds(&v[mid..]))
 }
 
 /// Partition `v` in place, the primitives whose centroid's bin on `AXIS`
