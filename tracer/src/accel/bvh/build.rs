@@ -126,8 +126,6 @@ struct Bin {
     count: u32,
 }
 
-const EMPTY_BIN: Bin = Bin { bounds: Aabb::EMPTY, count: 0 };
-
 /// A node of the binary SAH tree: its primitives `start..end` (positions in
 /// the slice it was made from), its depth and boxes, and its split, found
 /// (and the range partitioned) when the node was made: `None` for a leaf.
@@ -230,7 +228,8 @@ fn split_with<const NB: usize>(prims: &mut [BuildPrim], boxes: &Boxes) -> Option
     let extent = cb.size();
     // cost, axis, bin, left bounds, right bounds
     let mut best: Option<(f32, usize, usize, Aabb, Aabb)> = None;
-    let all_bins = bin_all::<NB>(prims, cb);
+    let mut all_bins = empty_bins::<NB>();
+    bin_all::<NB>(prims, cb, &mut all_bins);
     for axis in 0..3 {
         if extent[axis] <= 0.0 {
             continue;
@@ -307,29 +306,42 @@ fn rounded_bins<const NB: usize>(c: Vec3A, lo: Vec3A, scale: Vec3A) -> Vec3A {
 }
 
 /// Bin the primitives' centroids along all three axes in one pass, into
-/// `NB` bins per axis.
-fn bin_all<const NB: usize>(prims: &[BuildPrim], cb: &Aabb) -> [[Bin; NB]; 3] {
+/// `NB` bins per axis: `bins`, empty on entry, filled in place (returned,
+/// they would be copied, and the sweep's loads would wait on the copy).
+fn bin_all<const NB: usize>(prims: &[BuildPrim], cb: &Aabb, bins: &mut [[Bin; NB]; 3]) {
     let (lo, scale) = bin_frame::<NB>(cb);
-    let fill = |chunk: &[BuildPrim]| {
-        let mut bins = [[EMPTY_BIN; NB]; 3];
+    let fill = |chunk: &[BuildPrim], bins: &mut [[Bin; NB]; 3]| {
         for p in chunk {
-            add_to_bins(&mut bins, p, lo, scale);
+            add_to_bins(bins, p, lo, scale);
         }
-        bins
     };
     if prims.len() > 1 << 15 {
         // Large nodes near the root: bin on all cores. The merge is exact
         // (unions and counts), so the tree does not depend on thread count.
-        prims.par_chunks(1 << 13).map(fill).reduce(
-            || [[EMPTY_BIN; NB]; 3],
-            |mut a, b| {
+        *bins = prims
+            .par_chunks(1 << 13)
+            .map(|chunk| {
+                let mut bins = empty_bins();
+                fill(chunk, &mut bins);
+                bins
+            })
+            .reduce(empty_bins, |mut a, b| {
                 merge_bins(&mut a, &b);
                 a
-            },
-        )
+            });
     } else {
-        fill(prims)
+        fill(prims, bins);
     }
+}
+
+/// `NB` empty bins per axis, stored in place. (From a constant, the
+/// compiler builds them as a copy of a constant array, whose wide stores
+/// the bins' first loads then wait on; the infinity is hidden from it to
+/// keep the stores as wide as the loads.)
+#[inline(always)]
+fn empty_bins<const NB: usize>() -> [[Bin; NB]; 3] {
+    let inf = std::hint::black_box(f32::INFINITY);
+    [[Bin { bounds: Aabb { min: Vec3A::splat(inf), max: Vec3A::splat(-inf) }, count: 0 }; NB]; 3]
 }
 
 /// Count `p` in its bin on each axis.
@@ -539,7 +551,8 @@ mod tests {
             .collect();
         for prims in [small, large] {
             let boxes = boxes_of(&prims);
-            let bins = bin_all::<16>(&prims, &boxes.centroids);
+            let mut bins = empty_bins::<16>();
+            bin_all::<16>(&prims, &boxes.centroids, &mut bins);
             let (lo, scale) = bin_frame::<16>(&boxes.centroids);
             for (axis, axis_bins) in bins.iter().enumerate() {
                 for bin in 0..16 {
