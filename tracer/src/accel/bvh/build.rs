@@ -334,10 +334,10 @@ fn bin_all<const NB: usize>(prims: &[BuildPrim], cb: &Aabb, bins: &mut [[Bin; NB
     }
 }
 
-/// `NB` empty bins per axis, stored in place. (From a constant, the
-/// compiler builds them as a copy of a constant array, whose wide stores
-/// the bins' first loads then wait on; the infinity is hidden from it to
-/// keep the stores as wide as the loads.)
+/// `NB` empty bins per axis. The infinity goes through `black_box` so that
+/// the compiler stores each bin in place: from a constant, it copies a
+/// constant array with stores wider than the bins' loads, which then stall
+/// on store forwarding.
 #[inline(always)]
 fn empty_bins<const NB: usize>() -> [[Bin; NB]; 3] {
     let inf = std::hint::black_box(f32::INFINITY);
