@@ -126,9 +126,19 @@ struct Bin {
     count: u32,
 }
 
+impl Bin {
+    /// Count in `count` more primitives, their box `bounds`.
+    #[inline(always)]
+    fn add(&mut self, bounds: Aabb, count: u32) {
+        self.bounds = self.bounds.union(bounds);
+        self.count += count;
+    }
+}
+
 /// A node of the binary SAH tree: its primitives `start..end` (positions in
-/// the slice it was made from), its depth and boxes, and its split, found
+/// the slice it was made from), its depth and box, and its split, found
 /// (and the range partitioned) when the node was made: `None` for a leaf.
+/// (Its centroid box served only to find the split, and is not kept.)
 #[derive(Clone, Copy)]
 pub(super) struct Binary {
     /// First primitive.
@@ -136,7 +146,7 @@ pub(super) struct Binary {
     /// One past the last primitive.
     pub end: usize,
     depth: usize,
-    boxes: Boxes,
+    bounds: Aabb,
     split: Option<Split>,
 }
 
@@ -148,7 +158,7 @@ impl Binary {
 
     fn new(prims: &mut [BuildPrim], start: usize, end: usize, depth: usize, boxes: Boxes) -> Binary {
         let split = if depth + 1 >= MAX_DEPTH { None } else { sah_split(&mut prims[start..end], &boxes) };
-        Binary { start, end, depth, boxes, split }
+        Binary { start, end, depth, bounds: boxes.bounds, split }
     }
 
     /// Whether the node is a leaf (its primitives are tested one by one).
@@ -160,7 +170,7 @@ impl Binary {
     /// The node's box.
     #[inline]
     pub fn bounds(&self) -> Aabb {
-        self.boxes.bounds
+        self.bounds
     }
 
     /// Number of primitives.
@@ -350,9 +360,7 @@ fn add_to_bins<const NB: usize>(bins: &mut [[Bin; NB]; 3], p: &BuildPrim, lo: Ve
     let bounds = p.bounds();
     let index = bin_indices::<NB>(p.centroid(), lo, scale);
     for (axis_bins, i) in bins.iter_mut().zip(index) {
-        let b = &mut axis_bins[i];
-        b.bounds = b.bounds.union(bounds);
-        b.count += 1;
+        axis_bins[i].add(bounds, 1);
     }
 }
 
@@ -361,8 +369,7 @@ fn add_to_bins<const NB: usize>(bins: &mut [[Bin; NB]; 3], p: &BuildPrim, lo: Ve
 fn merge_bins<const NB: usize>(bins: &mut [[Bin; NB]; 3], more: &[[Bin; NB]; 3]) {
     for (aa, ba) in bins.iter_mut().zip(more) {
         for (x, y) in aa.iter_mut().zip(ba) {
-            x.bounds = x.bounds.union(y.bounds);
-            x.count += y.count;
+            x.add(y.bounds, y.count);
         }
     }
 }
