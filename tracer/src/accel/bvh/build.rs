@@ -135,10 +135,10 @@ impl Bin {
     }
 }
 
-/// A node of the binary SAH tree: its primitives `start..end` (positions in
-/// the slice it was made from), its depth and box, and its split, found
-/// (and the range partitioned) when the node was made: `None` for a leaf.
-/// (Its centroid box served only to find the split, and is not kept.)
+/// A node of the binary SAH tree: its primitives `start..end` (positions
+/// in the slice it was made from), its depth and its boxes. It is split
+/// only when asked ([`Binary::split`]), so a node is a few vectors, not
+/// its children's boxes too: the 4-wide builder moves its nodes about.
 #[derive(Clone, Copy)]
 pub(super) struct Binary {
     /// First primitive.
@@ -146,31 +146,19 @@ pub(super) struct Binary {
     /// One past the last primitive.
     pub end: usize,
     depth: usize,
-    bounds: Aabb,
-    split: Option<Split>,
+    boxes: Boxes,
 }
 
 impl Binary {
-    /// The root over all of `prims` (which it partitions).
-    pub fn root(prims: &mut [BuildPrim]) -> Binary {
-        Binary::new(prims, 0, prims.len(), 0, boxes_of(prims))
-    }
-
-    fn new(prims: &mut [BuildPrim], start: usize, end: usize, depth: usize, boxes: Boxes) -> Binary {
-        let split = if depth + 1 >= MAX_DEPTH { None } else { sah_split(&mut prims[start..end], &boxes) };
-        Binary { start, end, depth, bounds: boxes.bounds, split }
-    }
-
-    /// Whether the node is a leaf (its primitives are tested one by one).
-    #[inline]
-    pub fn is_leaf(&self) -> bool {
-        self.split.is_none()
+    /// The root over all of `prims`.
+    pub fn root(prims: &[BuildPrim]) -> Binary {
+        Binary { start: 0, end: prims.len(), depth: 0, boxes: boxes_of(prims) }
     }
 
     /// The node's box.
     #[inline]
     pub fn bounds(&self) -> Aabb {
-        self.bounds
+        self.boxes.bounds
     }
 
     /// Number of primitives.
@@ -185,14 +173,20 @@ impl Binary {
         Binary { start: self.start - base, end: self.end - base, ..self }
     }
 
-    /// The two children of an interior node, each split in turn (a leaf has
-    /// none: `None`).
-    pub fn children(&self, prims: &mut [BuildPrim]) -> Option<[Binary; 2]> {
-        let split = self.split?;
+    /// The node's two children, its range partitioned between them by the
+    /// cheapest split; `None` for a leaf (its primitives are tested one by
+    /// one). Splitting a range only reorders that range, so the order in
+    /// which nodes are split does not change the tree.
+    #[inline]
+    pub fn split(&self, prims: &mut [BuildPrim]) -> Option<[Binary; 2]> {
+        if self.depth + 1 >= MAX_DEPTH {
+            return None;
+        }
+        let split = sah_split(&mut prims[self.start..self.end], &self.boxes)?;
         let (mid, depth) = (self.start + split.mid, self.depth + 1);
         Some([
-            Binary::new(prims, self.start, mid, depth, split.left),
-            Binary::new(prims, mid, self.end, depth, split.right),
+            Binary { start: self.start, end: mid, depth, boxes: split.left },
+            Binary { start: mid, end: self.end, depth, boxes: split.right },
         ])
     }
 }

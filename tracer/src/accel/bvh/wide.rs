@@ -85,14 +85,12 @@ impl Node4 {
         if prims.is_empty() {
             return (Vec::new(), Vec::new());
         }
-        let root = Binary::root(&mut prims);
-        let parts = if root.is_leaf() {
+        let root = Binary::root(&prims);
+        let parts = parts(&mut prims, 0, root, parallel).unwrap_or_else(|| {
             let mut node = Node4::EMPTY;
             node.set(0, &root, 0, root.len() as u32);
             vec![vec![node]]
-        } else {
-            parts(&mut prims, 0, root, parallel)
-        };
+        });
         let ids = build::ids(&prims);
         // Freed before the nodes are gathered: the gathered array may then
         // reuse its pages instead of new ones.
@@ -113,78 +111,102 @@ impl Node4 {
     }
 }
 
-/// The (up to) four binary nodes below interior node `node` that become one
-/// 4-wide node: its two children, then, while there are fewer than four,
-/// the interior one with the largest surface replaced by its children (the
-/// last of equals; the opened node's children go last). Opening takes the
-/// place of collapsing a stored binary tree, and gives the same nodes.
-fn open(prims: &mut [BuildPrim], node: &Binary) -> ([Binary; 4], usize) {
-    let mut kids = [*node; 4];
-    let Some(two) = node.children(prims) else { return (kids, 0) };
-    kids[..2].copy_from_slice(&two);
-    let mut len = 2;
-    while len < 4 {
-        let open = (0..len)
-            .filter(|&j| !kids[j].is_leaf())
-            .max_by(|&a, &b| kids[a].bounds().half_area().total_cmp(&kids[b].bounds().half_area()));
-        let Some(j) = open else { break };
-        let Some([first, second]) = kids[j].children(prims) else { break };
-        kids.copy_within(j + 1..len, j);
-        kids[len - 1] = first;
-        kids[len] = second;
-        len += 1;
-    }
-    (kids, len)
+/// The (up to) four binary nodes that become one 4-wide node's children,
+/// and which of them are known to be leaves.
+struct Kids {
+    nodes: [Binary; 4],
+    leaf: [bool; 4],
+    len: usize,
 }
 
-/// Append the 4-wide subtree of interior node `node` to `out` (links count
-/// from `out`'s start; leaf links are `offset` plus positions in `prims`)
-/// and return its index.
-fn emit(prims: &mut [BuildPrim], offset: usize, node: &Binary, out: &mut Part) -> u32 {
-    let (kids, len) = open(prims, node);
+impl Kids {
+    /// A split node's two children, then, while there are fewer than four,
+    /// the one with the largest surface that is not a leaf replaced by its
+    /// children (the last of equals; the opened node's children go last).
+    /// Opening takes the place of collapsing a stored binary tree, and
+    /// gives the same nodes.
+    fn open(prims: &mut [BuildPrim], [first, second]: [Binary; 2]) -> Kids {
+        let mut kids = Kids { nodes: [first, second, first, second], leaf: [false; 4], len: 2 };
+        while kids.len < 4 {
+            let area = |j: usize| kids.nodes[j].bounds().half_area();
+            let widest =
+                (0..kids.len).filter(|&j| !kids.leaf[j]).max_by(|&a, &b| area(a).total_cmp(&area(b)));
+            let Some(j) = widest else { break };
+            let Some([first, second]) = kids.nodes[j].split(prims) else {
+                kids.leaf[j] = true;
+                continue;
+            };
+            let len = kids.len;
+            kids.nodes.copy_within(j + 1..len, j);
+            kids.leaf.copy_within(j + 1..len, j);
+            kids.nodes[len - 1] = first;
+            kids.nodes[len] = second;
+            kids.leaf[len - 1] = false;
+            kids.leaf[len] = false;
+            kids.len += 1;
+        }
+        kids
+    }
+
+    /// Kid `slot`'s children, if it has any.
+    fn split(&self, prims: &mut [BuildPrim], slot: usize) -> Option<[Binary; 2]> {
+        if self.leaf[slot] {
+            return None;
+        }
+        self.nodes[slot].split(prims)
+    }
+}
+
+/// Append the 4-wide subtree over a split node's children `two` to `out`
+/// (links count from `out`'s start; leaf links are `offset` plus positions
+/// in `prims`) and return its index.
+fn emit(prims: &mut [BuildPrim], offset: usize, two: [Binary; 2], out: &mut Part) -> u32 {
+    let kids = Kids::open(prims, two);
     let index = out.len();
     out.push(Node4::EMPTY);
     let mut wide = Node4::EMPTY;
-    for (slot, k) in kids[..len].iter().enumerate() {
-        if k.is_leaf() {
-            wide.set(slot, k, (offset + k.start) as u32, k.len() as u32);
-        } else {
-            let child = emit(prims, offset, k, out);
-            wide.set(slot, k, child, 0);
+    for (slot, k) in kids.nodes[..kids.len].iter().enumerate() {
+        match kids.split(prims, slot) {
+            None => wide.set(slot, k, (offset + k.start) as u32, k.len() as u32),
+            Some(two) => {
+                let child = emit(prims, offset, two, out);
+                wide.set(slot, k, child, 0);
+            }
         }
     }
     out[index] = wide;
     index as u32
 }
 
-/// The 4-wide subtree of interior node `node` over `prims` (which start at
-/// `offset` in the whole array), as parts that follow each other in the
-/// node array. A large node's interior children are built in parallel,
-/// each on its own slice of `prims`; the parts are laid out as [`emit`]
-/// would lay them, so the tree does not depend on `parallel`.
-fn parts(prims: &mut [BuildPrim], offset: usize, node: Binary, parallel: usize) -> Vec<Part> {
+/// The 4-wide subtree of `node` over `prims` (which start at `offset` in
+/// the whole array), as parts that follow each other in the node array;
+/// `None` when `node` is a leaf. A large node's children are built in
+/// parallel, each on its own slice of `prims`; the parts are laid out as
+/// [`emit`] would lay them, so the tree does not depend on `parallel`.
+fn parts(prims: &mut [BuildPrim], offset: usize, node: Binary, parallel: usize) -> Option<Vec<Part>> {
+    let two = node.split(prims)?;
     if node.len() <= parallel {
         let mut out = Vec::with_capacity(node.len() / 2 + 1);
-        emit(prims, offset, &node, &mut out);
-        return vec![out];
+        emit(prims, offset, two, &mut out);
+        return Some(vec![out]);
     }
-    let (kids, len) = open(prims, &node);
-    let kids = &kids[..len];
+    let kids = Kids::open(prims, two);
+    let nodes = &kids.nodes[..kids.len];
     // The children tile the node's range: cut it into their slices in
-    // range order, then build the interior ones in parallel.
-    let mut by_start: Vec<usize> = (0..len).collect();
-    by_start.sort_by_key(|&s| kids[s].start);
-    let mut jobs = Vec::with_capacity(len);
+    // range order, then build the ones not known to be leaves in parallel.
+    let mut by_start: Vec<usize> = (0..kids.len).collect();
+    by_start.sort_by_key(|&s| nodes[s].start);
+    let mut jobs = Vec::with_capacity(kids.len);
     let mut rest = &mut prims[node.start..node.end];
     for &slot in &by_start {
-        let (mine, tail) = std::mem::take(&mut rest).split_at_mut(kids[slot].len());
+        let (mine, tail) = std::mem::take(&mut rest).split_at_mut(nodes[slot].len());
         rest = tail;
-        if !kids[slot].is_leaf() {
-            let k = kids[slot];
+        if !kids.leaf[slot] {
+            let k = nodes[slot];
             jobs.push((slot, mine, offset + k.start, k.rebased(k.start)));
         }
     }
-    let mut built: [Vec<Part>; 4] = Default::default();
+    let mut built: [Option<Vec<Part>>; 4] = Default::default();
     let subtrees: Vec<_> =
         jobs.into_par_iter().map(|(slot, mine, at, k)| (slot, parts(mine, at, k, parallel))).collect();
     for (slot, sub) in subtrees {
@@ -193,17 +215,17 @@ fn parts(prims: &mut [BuildPrim], offset: usize, node: Binary, parallel: usize) 
     let mut wide = Node4::EMPTY;
     let mut next = 1;
     let mut out = vec![Vec::new()];
-    for ((slot, k), sub) in kids.iter().enumerate().zip(built) {
-        if k.is_leaf() {
+    for ((slot, k), sub) in nodes.iter().enumerate().zip(built) {
+        let Some(sub) = sub else {
             wide.set(slot, k, (offset + k.start) as u32, k.len() as u32);
             continue;
-        }
+        };
         wide.set(slot, k, next, 0);
         next += sub.iter().map(Vec::len).sum::<usize>() as u32;
         out.extend(sub);
     }
     out[0].push(wide);
-    out
+    Some(out)
 }
 
 /// The parts in one array, their interior links made absolute: each node
