@@ -16,8 +16,7 @@
 //! by `u32`; there is no trait object per primitive and no allocation per ray.
 #![deny(missing_docs)]
 // Unsafe code is refused except in `simd`, where vectors are made under a
-// proof that the processor has their instructions, and in `huge_pages`,
-// which advises the kernel about memory the tracer owns.
+// proof that the processor has their instructions.
 #![deny(unsafe_code)]
 
 pub mod accel;
@@ -45,7 +44,6 @@ mod aabb;
 #[cfg(feature = "clap")]
 mod cli;
 mod geometry;
-mod huge_pages;
 mod integrator;
 mod material;
 mod math;

@@ -12,7 +12,6 @@
 
 use crate::aabb::Aabb;
 use crate::geometry::Geometry;
-use crate::huge_pages;
 use glam::{BVec4A, Vec3A, Vec4};
 use rayon::prelude::*;
 
@@ -102,19 +101,15 @@ impl BuildPrim {
 /// Every bounded primitive of `geom`, in id order.
 pub(super) fn build_prims(geom: &Geometry) -> Vec<BuildPrim> {
     let spheres = geom.spheres.len() as u32; // (spheres have the first ids)
-    let mut prims = huge_pages::vec_with_capacity(geom.bounded_len());
     (0..geom.bounded_len() as u32)
         .into_par_iter()
         .map(|id| BuildPrim::new(geom.bounds(id), id, id < spheres))
-        .collect_into_vec(&mut prims);
-    prims
+        .collect()
 }
 
 /// The primitive ids in the array's (finally: leaf) order.
 pub(super) fn ids(prims: &[BuildPrim]) -> Vec<u32> {
-    let mut ids = huge_pages::vec_with_capacity(prims.len());
-    ids.extend(prims.iter().map(BuildPrim::id));
-    ids
+    prims.iter().map(BuildPrim::id).collect()
 }
 
 /// A range's box and the box of its primitives' centroids (doubled, as

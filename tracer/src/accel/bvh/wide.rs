@@ -12,7 +12,6 @@
 use super::build::{self, Binary, BuildPrim};
 use crate::aabb::{ENTRY_SLACK, SLAB_WIDEN};
 use crate::geometry::Geometry;
-use crate::huge_pages;
 use crate::math::RayQuery;
 use crate::packet::RayPacket;
 use crate::query::Query;
@@ -233,7 +232,7 @@ fn parts(prims: &mut [BuildPrim], offset: usize, node: Binary, parallel: usize) 
 /// is copied once, however many levels were built in parallel. (A link of
 /// 0 is an unused slot: a part's first node is no one's child in it.)
 fn concat(parts: Vec<Part>) -> Vec<Node4> {
-    let mut nodes = huge_pages::vec_with_capacity(parts.iter().map(Vec::len).sum());
+    let mut nodes = Vec::with_capacity(parts.iter().map(Vec::len).sum());
     for part in parts {
         let base = nodes.len() as u32;
         nodes.extend(part.into_iter().map(|mut n| {
