@@ -107,9 +107,12 @@ pub(super) fn build_prims(geom: &Geometry) -> Vec<BuildPrim> {
         .collect()
 }
 
-/// The primitive ids in the array's (finally: leaf) order.
-pub(super) fn ids(prims: &[BuildPrim]) -> Vec<u32> {
-    prims.iter().map(BuildPrim::id).collect()
+/// Write the ids of a leaf's primitives to its slots of the id array.
+#[inline]
+pub(super) fn write_ids(prims: &[BuildPrim], ids: &mut [u32]) {
+    for (id, p) in ids.iter_mut().zip(prims) {
+        *id = p.id();
+    }
 }
 
 /// A range's box and the box of its primitives' centroids (doubled, as

@@ -86,12 +86,14 @@ impl Node4 {
             return (Vec::new(), Vec::new());
         }
         let root = Binary::root(&prims);
-        let parts = parts(&mut prims, 0, root, parallel).unwrap_or_else(|| {
+        // Every primitive is in one leaf, which writes its id.
+        let mut ids = vec![0; prims.len()];
+        let parts = parts(&mut prims, &mut ids, 0, root, parallel).unwrap_or_else(|| {
             let mut node = Node4::EMPTY;
             node.set(0, &root, 0, root.len() as u32);
+            build::write_ids(&prims, &mut ids);
             vec![vec![node]]
         });
-        let ids = build::ids(&prims);
         // Freed before the nodes are gathered: the gathered array may then
         // reuse its pages instead of new ones.
         drop(prims);
@@ -159,17 +161,21 @@ impl Kids {
 
 /// Append the 4-wide subtree over a split node's children `two` to `out`
 /// (links count from `out`'s start; leaf links are `offset` plus positions
-/// in `prims`) and return its index.
-fn emit(prims: &mut [BuildPrim], offset: usize, two: [Binary; 2], out: &mut Part) -> u32 {
+/// in `prims`) and return its index. Its leaves write their primitives'
+/// ids to `ids`, the id array's part at the same positions as `prims`.
+fn emit(prims: &mut [BuildPrim], ids: &mut [u32], offset: usize, two: [Binary; 2], out: &mut Part) -> u32 {
     let kids = Kids::open(prims, two);
     let index = out.len();
     out.push(Node4::EMPTY);
     let mut wide = Node4::EMPTY;
     for (slot, k) in kids.nodes[..kids.len].iter().enumerate() {
         match kids.split(prims, slot) {
-            None => wide.set(slot, k, (offset + k.start) as u32, k.len() as u32),
+            None => {
+                build::write_ids(&prims[k.start..k.end], &mut ids[k.start..k.end]);
+                wide.set(slot, k, (offset + k.start) as u32, k.len() as u32);
+            }
             Some(two) => {
-                let child = emit(prims, offset, two, out);
+                let child = emit(prims, ids, offset, two, out);
                 wide.set(slot, k, child, 0);
             }
         }
@@ -180,14 +186,21 @@ fn emit(prims: &mut [BuildPrim], offset: usize, two: [Binary; 2], out: &mut Part
 
 /// The 4-wide subtree of `node` over `prims` (which start at `offset` in
 /// the whole array), as parts that follow each other in the node array;
-/// `None` when `node` is a leaf. A large node's children are built in
-/// parallel, each on its own slice of `prims`; the parts are laid out as
-/// [`emit`] would lay them, so the tree does not depend on `parallel`.
-fn parts(prims: &mut [BuildPrim], offset: usize, node: Binary, parallel: usize) -> Option<Vec<Part>> {
+/// `None` when `node` is a leaf (its ids are then not written). A large
+/// node's children are built in parallel, each on its own slices of
+/// `prims` and `ids`; the parts are laid out as [`emit`] would lay them,
+/// so the tree does not depend on `parallel`.
+fn parts(
+    prims: &mut [BuildPrim],
+    ids: &mut [u32],
+    offset: usize,
+    node: Binary,
+    parallel: usize,
+) -> Option<Vec<Part>> {
     let two = node.split(prims)?;
     if node.len() <= parallel {
         let mut out = Vec::with_capacity(node.len() / 2 + 1);
-        emit(prims, offset, two, &mut out);
+        emit(prims, ids, offset, two, &mut out);
         return Some(vec![out]);
     }
     let kids = Kids::open(prims, two);
@@ -197,18 +210,25 @@ fn parts(prims: &mut [BuildPrim], offset: usize, node: Binary, parallel: usize) 
     let mut by_start: Vec<usize> = (0..kids.len).collect();
     by_start.sort_by_key(|&s| nodes[s].start);
     let mut jobs = Vec::with_capacity(kids.len);
-    let mut rest = &mut prims[node.start..node.end];
+    let (mut rest, mut rest_ids) = (&mut prims[node.start..node.end], &mut ids[node.start..node.end]);
     for &slot in &by_start {
         let (mine, tail) = std::mem::take(&mut rest).split_at_mut(nodes[slot].len());
-        rest = tail;
-        if !kids.leaf[slot] {
-            let k = nodes[slot];
-            jobs.push((slot, mine, offset + k.start, k.rebased(k.start)));
-        }
+        let (my_ids, ids_tail) = std::mem::take(&mut rest_ids).split_at_mut(nodes[slot].len());
+        (rest, rest_ids) = (tail, ids_tail);
+        let k = nodes[slot];
+        jobs.push((slot, mine, my_ids, offset + k.start, k.rebased(k.start), kids.leaf[slot]));
     }
     let mut built: [Option<Vec<Part>>; 4] = Default::default();
-    let subtrees: Vec<_> =
-        jobs.into_par_iter().map(|(slot, mine, at, k)| (slot, parts(mine, at, k, parallel))).collect();
+    let subtrees: Vec<_> = jobs
+        .into_par_iter()
+        .map(|(slot, mine, my_ids, at, k, leaf)| {
+            let sub = if leaf { None } else { parts(mine, my_ids, at, k, parallel) };
+            if sub.is_none() {
+                build::write_ids(mine, my_ids);
+            }
+            (slot, sub)
+        })
+        .collect();
     for (slot, sub) in subtrees {
         built[slot] = sub;
     }
