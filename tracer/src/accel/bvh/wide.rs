@@ -56,7 +56,7 @@ pub(crate) struct Entry {
 pub(crate) const STACK: usize = 256;
 
 /// Binary nodes larger than this have their subtrees built in parallel.
-const PARALLEL_BUILD: usize = 1 << 16;
+const PARALLEL_BUILD: usize = 1 << 14;
 
 /// Part of the node array, built on one thread: its interior links count
 /// from its own first node.
