@@ -90,7 +90,7 @@ impl Node4 {
         let mut ids = vec![0; prims.len()];
         let parts = parts(&mut prims, &mut ids, 0, root, parallel).unwrap_or_else(|| {
             let mut node = Node4::EMPTY;
-            node.set(0, &root, 0, root.len() as u32);
+            node.set_leaf(0, &root, 0);
             build::write_ids(&prims, &mut ids);
             vec![vec![node]]
         });
@@ -110,6 +110,12 @@ impl Node4 {
         }
         self.child[slot] = child;
         self.count[slot] = count;
+    }
+
+    /// Slot `slot` holds leaf `b`, whose positions count from `offset` in
+    /// the whole primitive array.
+    fn set_leaf(&mut self, slot: usize, b: &Binary, offset: usize) {
+        self.set(slot, b, (offset + b.start) as u32, b.len() as u32);
     }
 }
 
@@ -150,7 +156,7 @@ impl Kids {
         kids
     }
 
-    /// Kid `slot`'s children, if it has any.
+    /// Split kid `slot`: its two children, or `None` for a leaf.
     fn split(&self, prims: &mut [BuildPrim], slot: usize) -> Option<[Binary; 2]> {
         if self.leaf[slot] {
             return None;
@@ -172,7 +178,7 @@ fn emit(prims: &mut [BuildPrim], ids: &mut [u32], offset: usize, two: [Binary; 2
         match kids.split(prims, slot) {
             None => {
                 build::write_ids(&prims[k.start..k.end], &mut ids[k.start..k.end]);
-                wide.set(slot, k, (offset + k.start) as u32, k.len() as u32);
+                wide.set_leaf(slot, k, offset);
             }
             Some(two) => {
                 let child = emit(prims, ids, offset, two, out);
@@ -206,7 +212,8 @@ fn parts(
     let kids = Kids::open(prims, two);
     let nodes = &kids.nodes[..kids.len];
     // The children tile the node's range: cut it into their slices in
-    // range order, then build the ones not known to be leaves in parallel.
+    // range order, then build them in parallel (a leaf's job only writes
+    // its ids).
     let mut by_start: Vec<usize> = (0..kids.len).collect();
     by_start.sort_by_key(|&s| nodes[s].start);
     let mut jobs = Vec::with_capacity(kids.len);
@@ -237,7 +244,7 @@ fn parts(
     let mut out = vec![Vec::new()];
     for ((slot, k), sub) in nodes.iter().enumerate().zip(built) {
         let Some(sub) = sub else {
-            wide.set(slot, k, (offset + k.start) as u32, k.len() as u32);
+            wide.set_leaf(slot, k, offset);
             continue;
         };
         wide.set(slot, k, next, 0);
