@@ -312,6 +312,12 @@ fn rounded_bins<const NB: usize>(c: Vec3A, lo: Vec3A, scale: Vec3A) -> Vec3A {
     t + Vec3A::splat(ROUNDER)
 }
 
+/// Ranges larger than this are binned and partitioned on all cores.
+pub(super) const PARALLEL_SPLIT: usize = 1 << 15;
+/// The blocks a parallel split cuts its range into. A fixed size, so the
+/// order a parallel partition leaves does not depend on the thread count.
+const SPLIT_BLOCK: usize = 1 << 13;
+
 /// Bin the primitives' centroids along all three axes in one pass, into
 /// `NB` bins per axis: `bins`, empty on entry, filled in place (returned,
 /// they would be copied, and the sweep's loads would wait on the copy).
@@ -322,11 +328,11 @@ fn bin_all<const NB: usize>(prims: &[BuildPrim], cb: &Aabb, bins: &mut [[Bin; NB
             add_to_bins(bins, p, lo, scale);
         }
     };
-    if prims.len() > 1 << 15 {
+    if prims.len() > PARALLEL_SPLIT {
         // Large nodes near the root: bin on all cores. The merge is exact
         // (unions and counts), so the tree does not depend on thread count.
         *bins = prims
-            .par_chunks(1 << 13)
+            .par_chunks(SPLIT_BLOCK)
             .map(|chunk| {
                 let mut bins = empty_bins();
                 fill(chunk, &mut bins);
@@ -396,12 +402,6 @@ fn partition<const NB: usize>(
     }
 }
 
-/// Ranges larger than this are partitioned on all cores.
-const PARALLEL_PARTITION: usize = 1 << 15;
-/// The blocks a parallel partition cuts its range into. A fixed size, so
-/// the order it leaves does not depend on the thread count.
-const PARTITION_BLOCK: usize = 1 << 13;
-
 /// [`partition`] on axis `AXIS`. The parts' centroid boxes are gathered
 /// after the primitives are moved.
 #[inline(always)]
@@ -412,7 +412,7 @@ fn partition_on<const NB: usize, const AXIS: usize>(
 ) -> (usize, Aabb, Aabb) {
     let (lo, scale) = bin_frame::<NB>(cb);
     let limit = bin as f32 + ROUNDER;
-    if v.len() > PARALLEL_PARTITION {
+    if v.len() > PARALLEL_SPLIT {
         return partition_in_blocks::<NB, AXIS>(v, lo, scale, limit);
     }
     let mid = partition_block::<NB, AXIS>(v, lo, scale, limit);
@@ -430,11 +430,11 @@ fn partition_in_blocks<const NB: usize, const AXIS: usize>(
     limit: f32,
 ) -> (usize, Aabb, Aabb) {
     let lefts: Vec<usize> =
-        v.par_chunks_mut(PARTITION_BLOCK).map(|b| partition_block::<NB, AXIS>(b, lo, scale, limit)).collect();
+        v.par_chunks_mut(SPLIT_BLOCK).map(|b| partition_block::<NB, AXIS>(b, lo, scale, limit)).collect();
     let (n, mid) = (v.len(), lefts.iter().sum());
-    let block_start = |k: usize| k * PARTITION_BLOCK;
+    let block_start = |k: usize| k * SPLIT_BLOCK;
     let wrong_right = lefts.iter().enumerate().flat_map(|(k, &l)| {
-        let end = (block_start(k) + PARTITION_BLOCK).min(n);
+        let end = (block_start(k) + SPLIT_BLOCK).min(n);
         block_start(k) + l..end.min(mid)
     });
     let wrong_left = lefts.iter().enumerate().flat_map(|(k, &l)| block_start(k).max(mid)..block_start(k) + l);
@@ -443,7 +443,7 @@ fn partition_in_blocks<const NB: usize, const AXIS: usize>(
         std::mem::swap(&mut front[i], &mut back[j - mid]);
     }
     let bounds = |part: &[BuildPrim]| {
-        part.par_chunks(PARTITION_BLOCK).map(centroid_bounds).reduce(|| Aabb::EMPTY, Aabb::union)
+        part.par_chunks(SPLIT_BLOCK).map(centroid_bounds).reduce(|| Aabb::EMPTY, Aabb::union)
     };
     (mid, bounds(&v[..mid]), bounds(&v[mid..]))
 }
@@ -544,7 +544,7 @@ mod tests {
             BuildPrim::new(Aabb { min: c - Vec3A::splat(r), max: c + Vec3A::splat(r) }, i, false)
         };
         let small: Vec<BuildPrim> = (0..500).map(|i| prim(i, i as f32)).collect();
-        let n = PARALLEL_PARTITION as u32 * 3 / 2;
+        let n = PARALLEL_SPLIT as u32 * 3 / 2;
         let large: Vec<BuildPrim> = (0..n)
             .map(|i| {
                 prim(

@@ -519,7 +519,7 @@ mod tests {
     /// on all cores.
     #[test]
     fn the_tree_does_not_depend_on_the_thread_count() {
-        let g = clustered_spheres(3 * (1 << 15));
+        let g = clustered_spheres(3 * build::PARALLEL_SPLIT);
         let on = |threads: usize| {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a thread pool");
             pool.install(|| Node4::build(&g))
