@@ -51,6 +51,17 @@ pub enum Ambient {
     Spd,
 }
 
+impl Ambient {
+    /// Whether it lights anything: what [`RenderScene::ambient`] `> 0`
+    /// will say once prepared.
+    pub fn lights(&self) -> bool {
+        match *self {
+            Ambient::Value(v) => v > 0.0,
+            Ambient::Spd => true,
+        }
+    }
+}
+
 impl Default for Ambient {
     /// None: the classic image.
     fn default() -> Self {
@@ -172,35 +183,67 @@ fn v3(v: DVec3) -> Vec3A {
 
 /// Prepare `scene` for rendering.
 pub fn prepare(scene: &Scene, opts: &PrepareOptions) -> Result<RenderScene, PrepareError> {
-    let view = scene.view.as_ref().ok_or(PrepareError::NoView)?;
-    let w = opts.width.unwrap_or(view.resolution[0]);
-    let h = opts.height.unwrap_or(view.resolution[1]);
-    // The film holds 16 bytes a pixel: 2^27 pixels is 2 GiB, the most a
-    // render may ask for before memory, not the renderer, gives out.
-    if w == 0 || h == 0 || w > 65536 || h > 65536 || w as u64 * h as u64 > 1 << 27 {
-        return Err(PrepareError::BadSize(w, h));
+    Ok(Flat::new(scene, opts)?.build(&opts.accel))
+}
+
+/// [`prepare`] for a caller done with the file's primitives: they are
+/// taken from `scene` (left empty) and freed once flattened, before the
+/// accelerator is built. The build's arrays then reuse their memory
+/// instead of fresh pages, each of which costs a fault on first touch,
+/// and the peak is the lower. (The rest of `scene` is kept: lights, view,
+/// materials.)
+pub fn prepare_freeing(scene: &mut Scene, opts: &PrepareOptions) -> Result<RenderScene, PrepareError> {
+    let flat = Flat::new(scene, opts)?;
+    drop(std::mem::take(&mut scene.primitives));
+    Ok(flat.build(&opts.accel))
+}
+
+/// A scene flattened for rendering, all but its accelerator.
+struct Flat {
+    camera: Camera,
+    lights: Vec<PointLight>,
+    materials: Vec<WhittedMaterial>,
+    background: Vec3A,
+    ambient: f32,
+    geometry: Geometry,
+}
+
+impl Flat {
+    fn new(scene: &Scene, opts: &PrepareOptions) -> Result<Flat, PrepareError> {
+        let view = scene.view.as_ref().ok_or(PrepareError::NoView)?;
+        let w = opts.width.unwrap_or(view.resolution[0]);
+        let h = opts.height.unwrap_or(view.resolution[1]);
+        // The film holds 16 bytes a pixel: 2^27 pixels is 2 GiB, the most a
+        // render may ask for before memory, not the renderer, gives out.
+        if w == 0 || h == 0 || w > 65536 || h > 65536 || w as u64 * h as u64 > 1 << 27 {
+            return Err(PrepareError::BadSize(w, h));
+        }
+        let (aperture, focus) = lens(view, scene.dialect, opts);
+        let camera = Camera::in_dialect(view, scene.dialect, w, h).with_lens(aperture, focus);
+        let (lights, ambient) = point_lights(&scene.lights, opts.ambient);
+        let default = nffkit_formats::Material::default();
+        let fresnel = opts.fresnel || scene.dialect == Dialect::P3f;
+        let materials = std::iter::once(&default)
+            .chain(&scene.materials)
+            .map(|m| WhittedMaterial::new(m, fresnel))
+            .collect::<Vec<_>>();
+        let geometry = build_geometry(scene, &materials, opts.one_sided);
+        Ok(Flat {
+            camera,
+            lights,
+            materials,
+            background: scene.background.map(v3).unwrap_or(Vec3A::ZERO),
+            ambient,
+            geometry,
+        })
     }
-    let (aperture, focus) = lens(view, scene.dialect, opts);
-    let camera = Camera::in_dialect(view, scene.dialect, w, h).with_lens(aperture, focus);
-    let (lights, ambient) = point_lights(&scene.lights, opts.ambient);
-    let default = nffkit_formats::Material::default();
-    let fresnel = opts.fresnel || scene.dialect == Dialect::P3f;
-    let materials = std::iter::once(&default)
-        .chain(&scene.materials)
-        .map(|m| WhittedMaterial::new(m, fresnel))
-        .collect::<Vec<_>>();
-    let geometry = build_geometry(scene, &materials, opts.one_sided);
-    let accel = Accel::build(&geometry, &opts.accel);
-    Ok(RenderScene {
-        camera,
-        lights,
-        materials,
-        background: scene.background.map(v3).unwrap_or(Vec3A::ZERO),
-        environment: None,
-        ambient,
-        geometry,
-        accel,
-    })
+
+    /// The render scene, with the accelerator `opts` asks for.
+    fn build(self, opts: &AccelOptions) -> RenderScene {
+        let accel = Accel::build(&self.geometry, opts);
+        let Flat { camera, lights, materials, background, ambient, geometry } = self;
+        RenderScene { camera, lights, materials, background, environment: None, ambient, geometry, accel }
+    }
 }
 
 /// The lens radius and focal distance: the options', else the file's lens

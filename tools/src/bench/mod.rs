@@ -25,7 +25,7 @@ use anyhow::{bail, Context, Result};
 use nffkit_formats::nff::{self, ParseOptions};
 use nffkit_formats::Scene;
 use nffkit_tracer::bench::best_of;
-use nffkit_tracer::prepare::{prepare, PrepareOptions};
+use nffkit_tracer::prepare::{prepare, prepare_freeing, PrepareOptions};
 use nffkit_tracer::render::render;
 use std::path::Path;
 use std::time::Instant;
@@ -160,13 +160,14 @@ pub fn flake_process(path: &Path) -> Result<FlakeProcess> {
     let t0 = Instant::now();
     // As `render` reads it (memory-mapped).
     let bytes = crate::input::read_source(path)?;
-    let scene = nff::parse(&bytes, &ParseOptions::default()).map_err(|e| anyhow::anyhow!("{e}"))?.scene;
+    let mut scene = nff::parse(&bytes, &ParseOptions::default()).map_err(|e| anyhow::anyhow!("{e}"))?.scene;
     let parse = t0.elapsed().as_secs_f64();
     // As `render` does: the file's bytes are not kept past reading.
     let len = bytes.len();
     drop(bytes);
     let t1 = Instant::now();
-    let prepared = prepare(&scene, &PrepareOptions::default())?;
+    // As `render` does: the file's primitives are freed before the build.
+    let prepared = prepare_freeing(&mut scene, &PrepareOptions::default())?;
     let build = t1.elapsed().as_secs_f64();
     let config = render_config_from(["--depth", "6"])?;
     let t2 = Instant::now();

@@ -3,7 +3,7 @@
 //! writing the image and printing statistics. The work itself is done by
 //! `nffkit_tracer`; validation is done before anything here runs.
 
-use super::scene_warnings::scene_warnings;
+use super::scene_warnings::{file_warnings, prepared_warnings};
 use super::{check, environment, part, report, spd_published};
 use crate::gen::default_scene;
 use crate::outputs::Outputs;
@@ -16,7 +16,7 @@ use nffkit_formats::nff::ParseOptions;
 use nffkit_formats::Dialect;
 use nffkit_tracer::film::cost_heatmap;
 use nffkit_tracer::gpu::{Gpu, GpuScene};
-use nffkit_tracer::prepare::prepare;
+use nffkit_tracer::prepare::prepare_freeing;
 use nffkit_tracer::render::{render, PixelWindow};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -81,7 +81,7 @@ fn render_command(cfg: &mut RenderConfig) -> Result<()> {
     if let Some(cost) = &cfg.aov_cost {
         outputs.file("--aov-cost", cost)?;
     }
-    let (scene, name) = match &cfg.input {
+    let (mut scene, name) = match &cfg.input {
         Some(path) => {
             (input::load_scene(path, &cfg.parse, cfg.dialect, cfg.warnings)?.scene, input::display_name(path))
         }
@@ -99,10 +99,17 @@ fn render_command(cfg: &mut RenderConfig) -> Result<()> {
         (None, None) => None,
     };
     let t_parse = t_start.elapsed().as_secs_f64();
-    let mut prepared = prepare(&scene, &cfg.prepare).with_context(|| name.clone())?;
+    // What is read from the file's primitives, before preparing frees them.
+    let mut warnings =
+        if cfg.quiet { Vec::new() } else { file_warnings(&scene, cfg.prepare.ambient.lights(), true) };
+    let in_file = scene.primitives.len();
+    let published = spd_published::recognise(&scene);
+    let digest = cfg.part.map(|_| part::scene_digest(&scene));
+    let mut prepared = prepare_freeing(&mut scene, &cfg.prepare).with_context(|| name.clone())?;
     prepared.environment = environment.map(std::sync::Arc::new);
     if !cfg.quiet {
-        for w in scene_warnings(&scene, Some(&prepared), prepared.ambient > 0.0) {
+        warnings.extend(prepared_warnings(&prepared));
+        for w in warnings {
             eprint_safe!("{}", w.render(&name));
         }
     }
@@ -136,13 +143,13 @@ fn render_command(cfg: &mut RenderConfig) -> Result<()> {
         b.finish_and_clear();
     }
     let image = out.film.to_image();
-    let bytes = match (cfg.part, cfg.output_kind) {
+    let bytes = match (&digest, cfg.output_kind) {
         // A part in EXR carries its window and what merging needs to check.
-        (Some(_), ImageKind::Exr) => part::encode_part(
+        (Some(digest), ImageKind::Exr) => part::encode_part(
             &image,
             full,
             window,
-            &part::scene_digest(&scene),
+            digest,
             &part::settings_signature(&settings, &cfg.prepare, &prepared.camera),
             &out.counters,
         )?,
@@ -161,8 +168,8 @@ fn render_command(cfg: &mut RenderConfig) -> Result<()> {
     }
     if cfg.stats {
         let times = report::Times { parse: t_parse, total: t_start.elapsed().as_secs_f64() };
-        cli_util::print(report::statistics(&name, &scene, &prepared, &settings, &out, times))?;
-        if let Some(published) = spd_published::recognise(&scene).filter(|_| settings.shade.spd) {
+        cli_util::print(report::statistics(&name, in_file, &prepared, &settings, &out, times))?;
+        if let Some(published) = published.filter(|_| settings.shade.spd) {
             cli_util::print(spd_published::comparison(published, &out.counters, full.0, full.1))?;
         }
     }

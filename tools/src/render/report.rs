@@ -2,7 +2,7 @@
 //! how it was sampled, what the accelerator cost, and the rays and tests of
 //! the render, per kind by name.
 
-use nffkit_formats::{plural, Scene};
+use nffkit_formats::plural;
 use nffkit_tracer::prepare::RenderScene;
 use nffkit_tracer::render::{RenderOutput, RenderSettings};
 use nffkit_tracer::stats::Counters;
@@ -26,9 +26,10 @@ fn per(a: u64, b: u64) -> f64 {
 }
 
 /// The statistics block, one fact per line.
+/// `in_file`: the primitives the file held.
 pub fn statistics(
     name: &str,
-    scene: &Scene,
+    in_file: usize,
     prepared: &RenderScene,
     settings: &RenderSettings,
     out: &RenderOutput,
@@ -46,7 +47,7 @@ pub fn statistics(
         .map(|(k, n)| format!("{n} {}{}", <&str>::from(k), plural(n as usize)))
         .collect();
     let made = if made.is_empty() { "nothing to render".to_string() } else { made.join(", ") };
-    let _ = writeln!(s, "scene        {name}: {} primitives in the file -> {made}", scene.primitives.len());
+    let _ = writeln!(s, "scene        {name}: {} primitives in the file -> {made}", in_file);
     let _ = writeln!(
         s,
         "image        {w}x{h}, {}, depth {}",

@@ -37,13 +37,25 @@ impl SceneWarning {
 /// Every warning about `scene`; those about the view only when it was
 /// prepared (`prepared`). `ambient`: whether `--ambient` lights it.
 pub fn scene_warnings(scene: &Scene, prepared: Option<&RenderScene>, ambient: bool) -> Vec<SceneWarning> {
+    let mut out = file_warnings(scene, ambient, prepared.is_some());
+    out.extend(prepared.into_iter().flat_map(prepared_warnings));
+    out
+}
+
+/// The warnings read from the file's primitives and lights, the first of
+/// [`scene_warnings`]: for a caller that frees the primitives before the
+/// scene is prepared. `rendered`: whether the view will be prepared (the
+/// overlap check, costly past a million polygons, runs only then).
+pub fn file_warnings(scene: &Scene, ambient: bool, rendered: bool) -> Vec<SceneWarning> {
     let mut out: Vec<SceneWarning> = unlit(scene, ambient).into_iter().collect();
     out.extend(lights_in_surface_planes(scene));
-    // Costly past a million polygons: with the view, only when prepared.
-    out.extend(prepared.and_then(|_| super::coplanar::coplanar_overlaps(scene)));
-    out.extend(prepared.and_then(back_faces_in_view));
-    out.extend(prepared.and_then(beyond_precision));
+    out.extend(rendered.then(|| super::coplanar::coplanar_overlaps(scene)).flatten());
     out
+}
+
+/// The warnings about the prepared view, the last of [`scene_warnings`].
+pub fn prepared_warnings(prepared: &RenderScene) -> Vec<SceneWarning> {
+    back_faces_in_view(prepared).into_iter().chain(beyond_precision(prepared)).collect()
 }
 
 /// The warning when the scene's dynamic range passes what single precision

@@ -4,7 +4,7 @@
 use nffkit_formats::nff::{self, ParseOptions};
 use nffkit_tracer::accel::{AccelKind, AccelOptions};
 use nffkit_tracer::light::LightShape;
-use nffkit_tracer::prepare::{prepare, PrepareOptions};
+use nffkit_tracer::prepare::{prepare, prepare_freeing, PrepareOptions};
 use nffkit_tracer::render::{render, RenderSettings, ShadeSettings};
 use nffkit_tracer::sampling::{Sampler, SamplerKind};
 
@@ -23,6 +23,16 @@ fn settings() -> RenderSettings {
 }
 
 fn image(kind: AccelKind, threads: usize, aperture: f32) -> Vec<u8> {
+    image_prepared_by(kind, threads, aperture, |s, o| prepare(&s, o).unwrap())
+}
+
+/// [`image`], the scene prepared by `prepare`.
+fn image_prepared_by(
+    kind: AccelKind,
+    threads: usize,
+    aperture: f32,
+    prepare: impl Fn(nffkit_formats::Scene, &PrepareOptions) -> nffkit_tracer::prepare::RenderScene + Sync,
+) -> Vec<u8> {
     let opts = PrepareOptions {
         width: Some(48),
         height: Some(40),
@@ -32,7 +42,7 @@ fn image(kind: AccelKind, threads: usize, aperture: f32) -> Vec<u8> {
     };
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
     pool.install(|| {
-        let p = prepare(&scene(), &opts).unwrap();
+        let p = prepare(scene(), &opts);
         render(&p, &settings(), &|_, _| {})
             .film
             .pixels
@@ -47,6 +57,22 @@ fn image(kind: AccelKind, threads: usize, aperture: f32) -> Vec<u8> {
 fn same_image_on_one_and_two_threads() {
     assert_eq!(image(AccelKind::Bvh, 1, 0.05), image(AccelKind::Bvh, 2, 0.05));
     assert_eq!(image(AccelKind::Grid, 1, 0.0), image(AccelKind::Grid, 3, 0.0));
+}
+
+/// Freeing the file's primitives before the build changes nothing but
+/// memory, and leaves the rest of the scene.
+#[test]
+fn preparing_that_frees_the_primitives_gives_the_same_image() {
+    let freeing = |mut s: nffkit_formats::Scene, o: &PrepareOptions| {
+        let (lights, materials) = (s.lights.len(), s.materials.len());
+        let p = prepare_freeing(&mut s, o).unwrap();
+        assert!(s.primitives.is_empty());
+        assert_eq!((s.lights.len(), s.materials.len()), (lights, materials));
+        assert!(s.view.is_some());
+        p
+    };
+    assert_eq!(image(AccelKind::Bvh, 2, 0.05), image_prepared_by(AccelKind::Bvh, 2, 0.05, freeing));
+    assert_eq!(image(AccelKind::Grid, 1, 0.0), image_prepared_by(AccelKind::Grid, 1, 0.0, freeing));
 }
 
 #[test]
