@@ -286,6 +286,18 @@ impl Geometry {
         Some(Hit { t, prim: id, u, v })
     }
 
+    /// [`Geometry::intersect`] with the sphere test inline, for the
+    /// single-ray BVH walk: spheres are the commonest primitive and the
+    /// cheapest test, which a call costs the most.
+    #[inline(always)]
+    pub fn intersect_spheres_inline(&self, id: u32, q: &RayQuery, t_max: f32) -> Option<Hit> {
+        if id < self.start[1] && !self.any_cull {
+            let t = intersect_sphere(&self.spheres[id as usize], q, t_max, Cull::None)?;
+            return Some(Hit { t, prim: id, u: 0.0, v: 0.0 });
+        }
+        self.intersect(id, q, t_max)
+    }
+
     /// Normals and point of a hit.
     pub fn surface(&self, hit: &Hit, q: &RayQuery) -> Surface {
         let p = q.ray.at(hit.t);

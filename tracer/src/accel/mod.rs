@@ -295,12 +295,27 @@ pub(crate) fn test_prim<Q: Query>(
     t_max: f32,
     c: &mut Counters,
 ) -> bool {
+    test_prim_by::<Q>(Geometry::intersect, geom, id, q, best, t_max, c)
+}
+
+/// [`test_prim`], testing by `intersect` ([`Geometry::intersect`] or a
+/// form of it).
+#[inline(always)]
+pub(crate) fn test_prim_by<Q: Query>(
+    intersect: impl FnOnce(&Geometry, u32, &RayQuery, f32) -> Option<Hit>,
+    geom: &Geometry,
+    id: u32,
+    q: &RayQuery,
+    best: &mut Option<Hit>,
+    t_max: f32,
+    c: &mut Counters,
+) -> bool {
     let limit = match best {
         Some(b) if !Q::ANY_HIT => f32::from_bits(b.t.to_bits() + 1),
         _ => t_max,
     };
     c.tests[geom.locate(id).0] += 1;
-    if let Some(h) = geom.intersect(id, q, limit) {
+    if let Some(h) = intersect(geom, id, q, limit) {
         if Q::ANY_HIT {
             *best = Some(h);
             return true;

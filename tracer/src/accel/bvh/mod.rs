@@ -7,7 +7,7 @@ mod build;
 mod packet;
 mod wide;
 
-use super::{test_prim, AccelInfo, Intersector, Query, Tracer};
+use super::{test_prim_by, AccelInfo, Intersector, Query, Tracer};
 use crate::aabb::ENTRY_SLACK;
 use crate::geometry::{Geometry, Hit};
 use crate::math::RayQuery;
@@ -248,11 +248,13 @@ impl<'q, Q: Query> SingleRay<'q, Q> {
         self.box_limit = end * ENTRY_SLACK;
     }
 
-    /// Test primitive `id` by [`test_prim`]; true when an any-hit walk is
+    /// Test primitive `id` by [`test_prim`](super::test_prim), spheres
+    /// inline; true when an any-hit walk is
     /// done.
     #[inline(always)]
     fn test(&mut self, geom: &Geometry, id: u32) -> bool {
-        let done = test_prim::<Q>(geom, id, self.q, &mut self.best, self.t_max, &mut self.counters);
+        let (q, best, c) = (self.q, &mut self.best, &mut self.counters);
+        let done = test_prim_by::<Q>(Geometry::intersect_spheres_inline, geom, id, q, best, self.t_max, c);
         self.bound();
         done
     }
