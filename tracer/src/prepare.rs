@@ -209,6 +209,7 @@ struct Flat {
 }
 
 impl Flat {
+    /// Camera, lights, materials and flat primitive arrays of `scene`.
     fn new(scene: &Scene, opts: &PrepareOptions) -> Result<Flat, PrepareError> {
         let view = scene.view.as_ref().ok_or(PrepareError::NoView)?;
         let w = opts.width.unwrap_or(view.resolution[0]);

@@ -25,8 +25,8 @@ fn per(a: u64, b: u64) -> f64 {
     }
 }
 
-/// The statistics block, one fact per line.
-/// `in_file`: the primitives the file held.
+/// The statistics block, one fact per line; `in_file` is the number of
+/// primitives the file held.
 pub fn statistics(
     name: &str,
     in_file: usize,

@@ -248,9 +248,8 @@ impl<'q, Q: Query> SingleRay<'q, Q> {
         self.box_limit = end * ENTRY_SLACK;
     }
 
-    /// Test primitive `id` by [`test_prim`](super::test_prim), spheres
-    /// inline; true when an any-hit walk is
-    /// done.
+    /// Test primitive `id` by [`test_prim`](super::test_prim), with the
+    /// sphere test inline; true when an any-hit walk is done.
     #[inline(always)]
     fn test(&mut self, geom: &Geometry, id: u32) -> bool {
         let (q, best, c) = (self.q, &mut self.best, &mut self.counters);
