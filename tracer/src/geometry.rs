@@ -291,6 +291,8 @@ impl Geometry {
     /// cheapest test, which a call costs the most.
     #[inline(always)]
     pub fn intersect_spheres_inline(&self, id: u32, q: &RayQuery, t_max: f32) -> Option<Hit> {
+        // Sphere ids are those below the first boundary `Geometry::locate`
+        // compares with; the comparison alone keeps the test's chain short.
         if id < self.start[1] && !self.any_cull {
             let t = intersect_sphere(&self.spheres[id as usize], q, t_max, Cull::None)?;
             return Some(Hit { t, prim: id, u: 0.0, v: 0.0 });
