@@ -115,9 +115,11 @@ pub fn encode(img: &RgbImage, kind: ImageKind, srgb: bool) -> io::Result<Vec<u8>
 
 /// Encode `img` as OpenEXR (RGB, 32-bit float, RLE in 64x64 tiles) with the
 /// given layer attributes (its data window position among them) inside
-/// `display_window`. Chunks are compressed on one thread and written in
-/// increasing order, so the same pixels always give the same bytes (the
-/// parallel writer orders chunks as they finish).
+/// `display_window`. The same pixels and attributes always give the same
+/// bytes: chunks are compressed on one thread and written in increasing
+/// order (the parallel writer orders them as they finish), and the header's
+/// attributes are put in name order (the `exr` crate writes custom
+/// attributes in its hash map's order, which changes from run to run).
 pub fn encode_exr(
     img: &RgbImage,
     attributes: exr::prelude::LayerAttributes,
@@ -135,7 +137,62 @@ pub fn encode_exr(
     image.attributes.display_window = display_window;
     let mut out = io::Cursor::new(Vec::new());
     image.write().non_parallel().to_buffered(&mut out).map_err(|e| io::Error::other(e.to_string()))?;
-    Ok(out.into_inner())
+    let mut bytes = out.into_inner();
+    sort_exr_header(&mut bytes)?;
+    Ok(bytes)
+}
+
+/// One attribute of an EXR header: its name and its whole record (name,
+/// type name, size and value) as bytes.
+struct HeaderAttribute<'a> {
+    name: &'a [u8],
+    record: &'a [u8],
+}
+
+/// The attributes of a single-part EXR file's header, in file order, and
+/// the offset of the byte that ends the header. Layout (OpenEXR file
+/// layout, "Header"): magic and version (8 bytes), then attributes, each a
+/// null-terminated name, a null-terminated type name, a little-endian i32
+/// size and that many value bytes, then one null byte.
+fn exr_header(bytes: &[u8]) -> io::Result<(Vec<HeaderAttribute<'_>>, usize)> {
+    const MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
+    const MULTI_PART: u8 = 0x10; // bit 12 of the version field
+    let bad = |what: &str| io::Error::other(format!("EXR header: {what}"));
+    if bytes.len() < 8 || bytes[..4] != MAGIC {
+        return Err(bad("no OpenEXR magic number"));
+    }
+    if bytes[5] & MULTI_PART != 0 {
+        return Err(bad("multi-part files are not written here"));
+    }
+    let until_null = |at: usize| -> io::Result<usize> {
+        let len = bytes.get(at..).and_then(|b| b.iter().position(|&c| c == 0));
+        len.map(|n| at + n).ok_or_else(|| bad("unterminated name"))
+    };
+    let (mut attributes, mut at) = (Vec::new(), 8);
+    while *bytes.get(at).ok_or_else(|| bad("no end of header"))? != 0 {
+        let name_end = until_null(at)?;
+        let type_end = until_null(name_end + 1)?;
+        let size_at = type_end + 1;
+        let size = bytes.get(size_at..size_at + 4).ok_or_else(|| bad("truncated attribute"))?;
+        let size = usize::try_from(i32::from_le_bytes([size[0], size[1], size[2], size[3]]))
+            .map_err(|_| bad("negative attribute size"))?;
+        let end = size_at + 4 + size;
+        let record = bytes.get(at..end).ok_or_else(|| bad("truncated attribute"))?;
+        attributes.push(HeaderAttribute { name: &bytes[at..name_end], record });
+        at = end;
+    }
+    Ok((attributes, at))
+}
+
+/// Rewrite a single-part EXR file's header with its attributes in name
+/// order. The header keeps its length, so the offset table and chunks that
+/// follow stay where they are.
+fn sort_exr_header(bytes: &mut [u8]) -> io::Result<()> {
+    let (mut attributes, end) = exr_header(bytes)?;
+    attributes.sort_by(|a, b| a.name.cmp(b.name));
+    let sorted: Vec<u8> = attributes.iter().flat_map(|a| a.record.iter().copied()).collect();
+    bytes[8..end].copy_from_slice(&sorted);
+    Ok(())
 }
 
 #[cfg(test)]
@@ -148,6 +205,42 @@ mod tests {
         assert_eq!(ImageKind::from_path(Path::new("a.exr")).unwrap(), ImageKind::Exr);
         let e = ImageKind::from_path(Path::new("a.jpg")).unwrap_err().to_string();
         assert!(e.contains("a.jpg") && e.contains(".png, .ppm"), "{e}");
+    }
+
+    #[test]
+    fn exr_headers_list_attributes_in_name_order() {
+        use exr::prelude::{AttributeValue, IntegerBounds, LayerAttributes, ReadChannels, ReadLayers, Text};
+        let img = RgbImage { width: 3, height: 2, pixels: vec![[0.25, 0.5, 1.0]; 6] };
+        let encode = || {
+            let mut attrs = LayerAttributes::named(Text::from("part"));
+            for key in ["z.last", "m.middle", "a.first", "q.other", "c.more", "k.keys"] {
+                attrs.other.insert(Text::from(key), AttributeValue::Text(Text::from(key)));
+            }
+            encode_exr(&img, attrs, IntegerBounds::from_dimensions((3, 2))).unwrap()
+        };
+        let first = encode();
+        let (attributes, _) = exr_header(&first).unwrap();
+        let names: Vec<&[u8]> = attributes.iter().map(|a| a.name).collect();
+        assert!(names.windows(2).all(|w| w[0] < w[1]), "{names:?}");
+        assert!(names.contains(&&b"z.last"[..]) && names.contains(&&b"dataWindow"[..]), "{names:?}");
+        // A fresh hash map each time: the order it iterates in varies.
+        for _ in 0..8 {
+            assert_eq!(encode(), first);
+        }
+        // The sorted file still reads, pixels and attributes.
+        let read = exr::prelude::read()
+            .no_deep_data()
+            .largest_resolution_level()
+            .rgb_channels(
+                |size, _| vec![[0f32; 3]; size.area()],
+                |px: &mut Vec<[f32; 3]>, at, (r, g, b): (f32, f32, f32)| px[at.y() * 3 + at.x()] = [r, g, b],
+            )
+            .first_valid_layer()
+            .all_attributes()
+            .from_buffered(io::Cursor::new(&first))
+            .unwrap();
+        assert_eq!(read.layer_data.channel_data.pixels, img.pixels);
+        assert_eq!(read.layer_data.attributes.other.len(), 6);
     }
 
     #[test]

@@ -160,6 +160,13 @@ fn tiles_from_concurrent_processes_merge_to_the_full_render_byte_for_byte() {
     for mut c in children {
         assert!(c.wait().unwrap().success());
     }
+    // A part rendered again is the same file, header included.
+    let again =
+        [&["s.nff", "--tile", "0/4", "-o", "again.exr", "--width", "64", "--height", "64"][..], &SETTINGS]
+            .concat();
+    ok(&run(RENDER, d, &again));
+    let (t0, again) = (std::fs::read(d.join("t0.exr")).unwrap(), std::fs::read(d.join("again.exr")).unwrap());
+    assert!(t0 == again, "the same part rendered twice gave different files");
     for ext in ["png", "exr"] {
         let full = format!("full.{ext}");
         let merged = format!("merged.{ext}");
