@@ -12,6 +12,7 @@ use glam::{DVec3, Vec3A};
 use nffkit_formats::polygon::{drop_repeats, triangulate};
 use nffkit_formats::scene::MAX_COORDINATE;
 use nffkit_formats::{box_faces, Dialect, Scene, Shape, View};
+use rayon::prelude::*;
 use std::sync::Arc;
 use strum::EnumCount;
 use thiserror::Error;
@@ -150,19 +151,23 @@ impl RenderScene {
         for l in &self.lights {
             span = span.max(l.position.abs().max_element());
         }
-        let mut smallest = f32::INFINITY;
-        for id in 0..g.info.len() as u32 {
-            let b = g.bounds(id);
-            if !(b.min.is_finite() && b.max.is_finite()) {
-                continue; // an infinite plane
-            }
-            span = span.max(b.min.abs().max_element()).max(b.max.abs().max_element());
-            let size = (b.max - b.min).max_element();
-            // A triangle with all three corners at one point is never hit.
-            if size > 0.0 || g.locate(id).0 != Kind::Triangle {
-                smallest = smallest.min(size);
-            }
-        }
+        // Per primitive, its largest coordinate and its size; the largest
+        // and the smallest of those (on all cores: max and min do not
+        // depend on the order).
+        let (far, smallest) = (0..g.info.len() as u32)
+            .into_par_iter()
+            .map(|id| {
+                let b = g.bounds(id);
+                if !(b.min.is_finite() && b.max.is_finite()) {
+                    return (0.0, f32::INFINITY); // an infinite plane
+                }
+                let size = (b.max - b.min).max_element();
+                // A triangle with all three corners at one point is never hit.
+                let counts = size > 0.0 || g.locate(id).0 != Kind::Triangle;
+                (b.min.abs().max(b.max.abs()).max_element(), if counts { size } else { f32::INFINITY })
+            })
+            .reduce(|| (0.0, f32::INFINITY), |a, b| (a.0.max(b.0), a.1.min(b.1)));
+        let span = span.max(far);
         if smallest == f32::INFINITY {
             1.0
         } else {

@@ -12,7 +12,7 @@
 use super::scene_warnings::SceneWarning;
 use glam::{DVec2, DVec3};
 use nffkit_formats::polygon::{newell_normal, project};
-use nffkit_formats::{Scene, Shape};
+use nffkit_formats::{Primitive, Shape};
 use std::collections::HashMap;
 
 /// Pair tests at most, so that a huge flat mesh costs bounded time.
@@ -43,11 +43,11 @@ impl Plane {
     }
 }
 
-/// The warning when polygons overlap in one plane: the first pair's lines
-/// and how many pairs there are.
-pub fn coplanar_overlaps(scene: &Scene) -> Option<SceneWarning> {
-    let scale = scene
-        .primitives
+/// The warning when polygons among `flats` (the file's flat surfaces,
+/// [`flat_surfaces`](super::scene_warnings::flat_surfaces)) overlap in one
+/// plane: the first pair's lines and how many pairs there are.
+pub fn coplanar_overlaps(flats: &[&Primitive]) -> Option<SceneWarning> {
+    let scale = flats
         .iter()
         .filter_map(|p| match &p.shape {
             Shape::Polygon { vertices } | Shape::Patch { vertices, .. } => Some(vertices),
@@ -57,7 +57,7 @@ pub fn coplanar_overlaps(scene: &Scene) -> Option<SceneWarning> {
         .fold(0.0f64, |m, v| m.max(v.abs().max_element()));
     let mut planes: HashMap<[i64; 4], Plane> = HashMap::new();
     let mut outline = Vec::new();
-    for prim in &scene.primitives {
+    for prim in flats {
         let (Shape::Polygon { vertices } | Shape::Patch { vertices, .. }) = &prim.shape else { continue };
         if let Some(key) = flat(vertices, scale, &mut outline) {
             let plane = planes.entry(key).or_default();
@@ -216,7 +216,7 @@ mod tests {
     fn warning(src: &str) -> Option<String> {
         let scene =
             parse(src.as_bytes(), &ParseOptions { fragment: true, ..Default::default() }).unwrap().scene;
-        coplanar_overlaps(&scene).map(|w| w.message)
+        coplanar_overlaps(&super::super::scene_warnings::flat_surfaces(&scene)).map(|w| w.message)
     }
 
     const FLOOR: &str = "p 4\n-2 -2 0\n2 -2 0\n2 2 0\n-2 2 0\n";

@@ -10,11 +10,12 @@
 
 use nffkit_formats::nff::escape;
 use nffkit_formats::polygon::newell_normal;
-use nffkit_formats::{Scene, Shape};
+use nffkit_formats::{Light, Primitive, Scene, Shape};
 use nffkit_tracer::prepare::{RenderScene, PRECISION_RANGE};
 use nffkit_tracer::probe::probe_view;
 
 use glam::DVec3;
+use rayon::prelude::*;
 
 /// A warning about the scene, with the line it points at when there is one.
 #[derive(Debug, Clone, PartialEq)]
@@ -47,10 +48,20 @@ pub fn scene_warnings(scene: &Scene, prepared: Option<&RenderScene>, ambient: bo
 /// scene is prepared. `rendered`: whether the view will be prepared (the
 /// overlap check, costly past a million polygons, runs only then).
 pub fn file_warnings(scene: &Scene, ambient: bool, rendered: bool) -> Vec<SceneWarning> {
+    let flats = flat_surfaces(scene);
     let mut out: Vec<SceneWarning> = unlit(scene, ambient).into_iter().collect();
-    out.extend(lights_in_surface_planes(scene));
-    out.extend(rendered.then(|| super::coplanar::coplanar_overlaps(scene)).flatten());
+    out.extend(lights_in_surface_planes(&scene.lights, &flats));
+    out.extend(rendered.then(|| super::coplanar::coplanar_overlaps(&flats)).flatten());
     out
+}
+
+/// The file's flat surfaces (polygons, patches, infinite planes, boxes) in
+/// file order: all that the checks of lights in planes and of overlapping
+/// polygons read. One pass over the primitives on all cores finds them; in
+/// a large file of spheres that pass is the checks' whole cost.
+pub fn flat_surfaces(scene: &Scene) -> Vec<&Primitive> {
+    let flat = |p: &&Primitive| !matches!(p.shape, Shape::Sphere { .. } | Shape::Cone { .. });
+    scene.primitives.par_iter().filter(flat).collect()
 }
 
 /// The warnings about the prepared view, the last of [`scene_warnings`].
@@ -105,15 +116,15 @@ const IN_PLANE: f64 = 1e-6;
 
 /// One warning per light that lies in the plane of flat surfaces
 /// (polygons, infinite planes, box faces; not patches, whose shading
-/// normals vary): the first such surface's line and how many more.
-pub fn lights_in_surface_planes(scene: &Scene) -> Vec<SceneWarning> {
-    let lights = &scene.lights;
-    if lights.is_empty() || lights.len().saturating_mul(scene.primitives.len()) > MAX_PAIRS {
+/// normals vary) among `flats` ([`flat_surfaces`]): the first such
+/// surface's line and how many more.
+pub fn lights_in_surface_planes(lights: &[Light], flats: &[&Primitive]) -> Vec<SceneWarning> {
+    if lights.is_empty() || lights.len().saturating_mul(flats.len()) > MAX_PAIRS {
         return Vec::new();
     }
     // Per light: surfaces in its plane, and the first one's line and kind.
     let mut found: Vec<(usize, Option<(u32, &'static str)>)> = vec![(0, None); lights.len()];
-    for prim in &scene.primitives {
+    for prim in flats {
         for (light, (count, first)) in lights.iter().zip(&mut found) {
             if in_a_plane_of(&prim.shape, light.position) {
                 *count += 1;
@@ -197,6 +208,10 @@ mod tests {
         parse(src.as_bytes(), &ParseOptions { fragment: true, ..Default::default() }).unwrap().scene
     }
 
+    fn in_planes(scene: &Scene) -> Vec<SceneWarning> {
+        lights_in_surface_planes(&scene.lights, &flat_surfaces(scene))
+    }
+
     #[test]
     fn unlit_warns_only_for_objects_without_any_light() {
         assert!(unlit(&scene("s 0 0 0 1\n"), false).is_some());
@@ -210,19 +225,49 @@ mod tests {
         let square = |z: f64| format!("p 4\n-1 -1 {z}\n1 -1 {z}\n1 1 {z}\n-1 1 {z}\n");
         // Two squares in the plane z = 0 (lines 2 and 7), one at z = 1.
         let src = format!("l 5 5 0\n{}{}{}", square(0.0), square(0.0), square(1.0));
-        let w = lights_in_surface_planes(&scene(&src));
+        let w = in_planes(&scene(&src));
         assert_eq!(w.len(), 1);
         assert_eq!(w[0].line, Some(2));
         assert!(w[0]
             .message
             .contains("light 1 at (5, 5, 0) lies in the plane of the polygon on line 2 and 1 more"));
         // Off the plane by a hundredth: lit at a grazing angle, no warning.
-        assert!(lights_in_surface_planes(&scene(&format!("l 5 5 0.01\n{}", square(0.0)))).is_empty());
+        assert!(in_planes(&scene(&format!("l 5 5 0.01\n{}", square(0.0)))).is_empty());
         // An infinite plane and a box face.
-        assert_eq!(lights_in_surface_planes(&scene("l 3 0 0\npl 0 0 0 1 0 0 0 1 0\n")).len(), 1);
-        assert_eq!(lights_in_surface_planes(&scene("l 1 7 7\naabb -1 -1 -1 1 1 1\n")).len(), 1);
+        assert_eq!(in_planes(&scene("l 3 0 0\npl 0 0 0 1 0 0 0 1 0\n")).len(), 1);
+        assert_eq!(in_planes(&scene("l 1 7 7\naabb -1 -1 -1 1 1 1\n")).len(), 1);
         // Patches shade with their own normals: not warned.
         let patch = "l 5 5 0\npp 3\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n";
-        assert!(lights_in_surface_planes(&scene(patch)).is_empty());
+        assert!(in_planes(&scene(patch)).is_empty());
+    }
+
+    /// The range is the largest coordinate over the smallest object,
+    /// whichever of thousands of primitives they are (the pass is split
+    /// across cores); an infinite plane counts for neither.
+    #[test]
+    fn beyond_precision_compares_the_span_with_the_smallest_object() {
+        use nffkit_tracer::prepare::{prepare, PrepareOptions};
+        let warned = |tiny: f64, far: f64| {
+            let mut src =
+                "v\nfrom 0 0 40\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 8 8\n".to_string();
+            src += "pl 0 -3 0 0 -3 1 1 -3 0\n";
+            for i in 0..5000 {
+                let (x, r) = match i {
+                    2345 => (0.0, tiny),
+                    3999 => (far, 1.0),
+                    _ => ((i % 50) as f64 * 0.4 - 10.0, 0.1),
+                };
+                src += &format!("s {x} {} 0 {r}\n", (i / 50) as f64 * 0.2 - 10.0);
+            }
+            let prepared = prepare(&scene(&src), &PrepareOptions::default()).unwrap();
+            beyond_precision(&prepared).is_some()
+        };
+        // The eye's 40 over spheres 2e-4, 2e-6 and 6e-5 across, against
+        // 2^20.
+        assert!(!warned(1e-4, 10.0));
+        assert!(warned(1e-6, 10.0));
+        assert!(!warned(3e-5, 10.0));
+        // One far sphere: 1001 over 6e-5.
+        assert!(warned(3e-5, 1000.0));
     }
 }
