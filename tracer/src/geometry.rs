@@ -10,7 +10,7 @@
 
 use crate::aabb::Aabb;
 use crate::math::{max_of, normal_or_facing, triangle_t_error, RayQuery};
-use glam::Vec3A;
+use glam::{Vec3A, Vec4};
 use strum::{EnumCount, IntoStaticStr, VariantArray};
 
 /// Which side of a surface may be hit.
@@ -25,13 +25,30 @@ pub(crate) enum Cull {
     Front,
 }
 
-/// A sphere.
+/// A sphere: the centre in x, y, z and the (positive) radius in w of one
+/// 16-byte vector, four spheres to a cache line. The centre reads back as
+/// the same register (a `Vec3A`'s fourth lane is unspecified and ignored).
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Sphere {
+pub(crate) struct Sphere(Vec4);
+
+const _: () = assert!(std::mem::size_of::<Sphere>() == 16);
+
+impl Sphere {
+    pub fn new(center: Vec3A, radius: f32) -> Sphere {
+        Sphere(center.extend(radius))
+    }
+
     /// Centre.
-    pub center: Vec3A,
+    #[inline(always)]
+    pub fn center(&self) -> Vec3A {
+        Vec3A::from_vec4(self.0)
+    }
+
     /// Radius (positive).
-    pub radius: f32,
+    #[inline(always)]
+    pub fn radius(&self) -> f32 {
+        self.0.w
+    }
 }
 
 /// A triangle (polygons and patches are triangulated at load).
@@ -252,7 +269,7 @@ impl Geometry {
         match self.locate(id) {
             (Kind::Sphere, i) => {
                 let s = self.spheres[i];
-                Aabb::new(s.center - s.radius, s.center + s.radius)
+                Aabb::new(s.center() - s.radius(), s.center() + s.radius())
             }
             (Kind::Triangle, i) => {
                 let [a, b, c] = self.triangles[i].v;
@@ -306,7 +323,7 @@ impl Geometry {
         match self.locate(hit.prim) {
             (Kind::Sphere, i) => {
                 let s = self.spheres[i];
-                let n = normal_or_facing(((p - s.center) / s.radius).normalize(), q.ray.d);
+                let n = normal_or_facing(((p - s.center()) / s.radius()).normalize(), q.ray.d);
                 Surface { p, ng: n, ns: n }
             }
             (Kind::Triangle, i) => {
@@ -356,10 +373,10 @@ impl Geometry {
 /// from the stable quadratic formula.
 #[inline]
 pub(crate) fn intersect_sphere(s: &Sphere, q: &RayQuery, t_max: f32, cull: Cull) -> Option<f32> {
-    let f = q.ray.o - s.center;
+    let f = q.ray.o - s.center();
     let b = -f.dot(q.ray.d);
     let l = f + b * q.ray.d;
-    let r2 = s.radius * s.radius;
+    let r2 = s.radius() * s.radius();
     let disc = r2 - l.length_squared();
     if disc < 0.0 {
         return None;
@@ -525,7 +542,7 @@ mod tests {
         RayQuery::new(Ray::new(Vec3A::from(o), Vec3A::from(d)), 0.0)
     }
 
-    const UNIT: Sphere = Sphere { center: Vec3A::ZERO, radius: 1.0 };
+    const UNIT: Sphere = Sphere(Vec4::new(0.0, 0.0, 0.0, 1.0));
 
     #[test]
     fn sphere_hit_miss_grazing_inside() {
@@ -542,7 +559,7 @@ mod tests {
 
     #[test]
     fn sphere_far_away_is_still_precise() {
-        let s = Sphere { center: Vec3A::new(0.0, 0.0, 10000.0), radius: 0.01 };
+        let s = Sphere::new(Vec3A::new(0.0, 0.0, 10000.0), 0.01);
         let t = intersect_sphere(&s, &q([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]), 1e9, Cull::None).unwrap();
         assert!((t - 9999.99).abs() < 2e-3, "{t}");
     }

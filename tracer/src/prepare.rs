@@ -340,7 +340,7 @@ pub(crate) fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_s
                 if *radius == 0.0 {
                     continue;
                 }
-                g.spheres.push(Sphere { center: v3(*center), radius: radius.abs() as f32 });
+                g.spheres.push(Sphere::new(v3(*center), radius.abs() as f32));
                 info[Kind::Sphere as usize].push(record(cull(*radius < 0.0), None));
             }
             Shape::Cone { base, base_radius, apex, apex_radius } => {

@@ -28,7 +28,7 @@ pub fn spheres(n: usize, mut place: impl FnMut(usize) -> (Vec3A, f32)) -> Geomet
     let mut g = Geometry::default();
     for i in 0..n {
         let (center, radius) = place(i);
-        g.spheres.push(Sphere { center, radius });
+        g.spheres.push(Sphere::new(center, radius));
         g.info.push(PrimInfo::new(0, Cull::None, None, 0));
     }
     g.assign_ids();

@@ -146,7 +146,7 @@ impl SceneData {
         let bvh = bvh(scene);
         let (wide, prims) = bvh.nodes();
         let nodes: Vec<GpuNode> = wide.iter().map(GpuNode::new).collect();
-        let mut shapes: Vec<[f32; 4]> = g.spheres.iter().map(|s| v4(s.center, s.radius)).collect();
+        let mut shapes: Vec<[f32; 4]> = g.spheres.iter().map(|s| v4(s.center(), s.radius())).collect();
         let tri_at = shapes.len();
         shapes.extend(g.triangles.iter().flat_map(|t| t.v.map(|v| v4(v, 0.0))));
         let cone_at = shapes.len();

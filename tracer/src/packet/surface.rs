@@ -79,8 +79,8 @@ pub(crate) fn surfaces(
         match geom.locate(id) {
             (Kind::Sphere, k) => {
                 let s = &geom.spheres[k];
-                set_lane(&mut g.a, i, s.center);
-                g.radius.0[i] = s.radius;
+                set_lane(&mut g.a, i, s.center());
+                g.radius.0[i] = s.radius();
                 g.kind.0[i] = SPHERE;
             }
             (Kind::Triangle, k) if geom.info[id as usize].patch().is_none() => {
