@@ -34,6 +34,7 @@ pub(crate) struct Sphere(Vec4);
 const _: () = assert!(std::mem::size_of::<Sphere>() == 16);
 
 impl Sphere {
+    /// The sphere at `center` of `radius` (positive).
     pub fn new(center: Vec3A, radius: f32) -> Sphere {
         Sphere(center.extend(radius))
     }

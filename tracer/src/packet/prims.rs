@@ -85,7 +85,8 @@ fn sphere_lanes<V: F32s>(
     cull: Cull,
     t: &mut [f32; LANES],
 ) -> Mask {
-    let (cx, cy, cz) = (s.splat(sphere.center().x), s.splat(sphere.center().y), s.splat(sphere.center().z));
+    let c = sphere.center();
+    let (cx, cy, cz) = (s.splat(c.x), s.splat(c.y), s.splat(c.z));
     let r2 = s.splat(sphere.radius() * sphere.radius());
     let zero = s.splat(0.0);
     let mut found: Mask = 0;
