@@ -54,11 +54,19 @@ pub enum Ambient {
 
 impl Ambient {
     /// Whether it lights anything: what [`RenderScene::ambient`] `> 0`
-    /// will say once prepared.
+    /// will say once prepared (for any number of lights: the SPD's level
+    /// only scales with it).
     pub fn lights(&self) -> bool {
-        match *self {
-            Ambient::Value(v) => v > 0.0,
-            Ambient::Spd => true,
+        self.levels(1).1 > 0.0
+    }
+
+    /// The intensity of a light that gives none, and the ambient level,
+    /// for `lights` point lights.
+    fn levels(self, lights: usize) -> (f32, f32) {
+        let root_n = (lights.max(1) as f32).sqrt();
+        match self {
+            Ambient::Value(a) => (1.0 / root_n, a),
+            Ambient::Spd => (0.5 / root_n, 0.5 / root_n),
         }
     }
 }
@@ -272,11 +280,7 @@ fn lens(view: &View, dialect: Dialect, opts: &PrepareOptions) -> (f32, Option<f3
 pub fn point_lights(lights: &[nffkit_formats::Light], ambient: Ambient) -> (Vec<PointLight>, f32) {
     // Lights too far for single precision are left out (the reader warns).
     let lights: Vec<_> = lights.iter().filter(|l| l.position.abs().max_element() <= MAX_COORDINATE).collect();
-    let root_n = (lights.len().max(1) as f32).sqrt();
-    let (default_i, ambient) = match ambient {
-        Ambient::Value(a) => (1.0 / root_n, a),
-        Ambient::Spd => (0.5 / root_n, 0.5 / root_n),
-    };
+    let (default_i, ambient) = ambient.levels(lights.len());
     let lights = lights
         .iter()
         .map(|l| PointLight {
