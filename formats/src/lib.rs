@@ -27,6 +27,6 @@ pub fn plural(n: usize) -> &'static str {
 }
 
 pub use scene::{
-    box_faces, Color, Dialect, Directives, Lens, Light, LightArea, Material, Primitive, Scene, Shape,
-    ShapeKind, SourceLine, View, SPD_SKY,
+    box_faces, AxisBox, Color, Cone, Dialect, Directives, Lens, Light, LightArea, Material, Patch, Primitive,
+    Scene, Shape, ShapeKind, SourceLine, View, SPD_SKY,
 };

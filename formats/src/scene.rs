@@ -194,16 +194,7 @@ pub enum Shape {
     },
     /// `c`: an open cone or cylinder (no end caps). Both radii negative means
     /// only the inside is visible.
-    Cone {
-        /// Centre of the base disc.
-        base: DVec3,
-        /// Radius at the base.
-        base_radius: f64,
-        /// Centre of the apex disc.
-        apex: DVec3,
-        /// Radius at the apex.
-        apex_radius: f64,
-    },
+    Cone(Box<Cone>),
     /// `p`: a planar polygon, counter-clockwise seen from its visible side.
     /// May be concave.
     Polygon {
@@ -211,27 +202,54 @@ pub enum Shape {
         vertices: Vec<DVec3>,
     },
     /// `pp`: a polygonal patch, a polygon with a normal per vertex.
-    Patch {
-        /// Vertices in order.
-        vertices: Vec<DVec3>,
-        /// One normal per vertex.
-        normals: Vec<DVec3>,
-    },
+    Patch(Box<Patch>),
     /// `pl`, an extension from the 2017 course files: the infinite plane
     /// through three points, its front given by the right-hand rule
     /// (`(b - a) × (c - a)`). Unbounded: it has no box.
     Plane {
         /// The three points, in order.
-        points: [DVec3; 3],
+        points: Box<[DVec3; 3]>,
     },
     /// `aabb`, an extension seen in the same course's scenes: an
     /// axis-aligned box, its faces facing out.
-    Box {
-        /// Lowest corner.
-        min: DVec3,
-        /// Highest corner.
-        max: DVec3,
-    },
+    Box(Box<AxisBox>),
+}
+
+// The shapes larger than a sphere are boxed: a scene is mostly spheres or
+// polygons, and a primitive's size sets the memory every file's parse, copy
+// and flattening pass through (the level-6 sphereflake holds 598k).
+#[cfg(target_pointer_width = "64")]
+const _: () = assert!(std::mem::size_of::<Shape>() == 40 && std::mem::size_of::<Primitive>() == 56);
+
+/// A [`Shape::Cone`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cone {
+    /// Centre of the base disc.
+    pub base: DVec3,
+    /// Radius at the base.
+    pub base_radius: f64,
+    /// Centre of the apex disc.
+    pub apex: DVec3,
+    /// Radius at the apex.
+    pub apex_radius: f64,
+}
+
+/// A [`Shape::Patch`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Patch {
+    /// Vertices in order.
+    pub vertices: Vec<DVec3>,
+    /// One normal per vertex.
+    pub normals: Vec<DVec3>,
+}
+
+/// A [`Shape::Box`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct AxisBox {
+    /// Lowest corner.
+    pub min: DVec3,
+    /// Highest corner.
+    pub max: DVec3,
 }
 
 /// The kinds of [`Shape`], in declaration order, for counts and reports;
@@ -282,12 +300,13 @@ impl Shape {
                 let r = DVec3::splat(radius.abs());
                 (*center - r, *center + r)
             }
-            Shape::Cone { base, base_radius, apex, apex_radius } => {
-                let rb = DVec3::splat(base_radius.abs());
-                let ra = DVec3::splat(apex_radius.abs());
-                ((*base - rb).min(*apex - ra), (*base + rb).max(*apex + ra))
+            Shape::Cone(c) => {
+                let rb = DVec3::splat(c.base_radius.abs());
+                let ra = DVec3::splat(c.apex_radius.abs());
+                ((c.base - rb).min(c.apex - ra), (c.base + rb).max(c.apex + ra))
             }
-            Shape::Polygon { vertices } | Shape::Patch { vertices, .. } => {
+            Shape::Polygon { .. } | Shape::Patch(_) => {
+                let vertices = self.vertices().unwrap_or_default();
                 let mut lo = DVec3::splat(f64::INFINITY);
                 let mut hi = DVec3::splat(f64::NEG_INFINITY);
                 for v in vertices {
@@ -296,7 +315,7 @@ impl Shape {
                 }
                 (lo, hi)
             }
-            Shape::Box { min, max } => (min.min(*max), min.max(*max)),
+            Shape::Box(b) => (b.min.min(b.max), b.min.max(b.max)),
             Shape::Plane { .. } => return None,
         })
     }
@@ -307,14 +326,41 @@ impl Shape {
         let of = |v: &DVec3| v.abs().max_element();
         match self {
             Shape::Sphere { center, radius } => of(center).max(radius.abs()),
-            Shape::Cone { base, base_radius, apex, apex_radius } => {
-                of(base).max(of(apex)).max(base_radius.abs()).max(apex_radius.abs())
-            }
-            Shape::Polygon { vertices } | Shape::Patch { vertices, .. } => {
-                vertices.iter().map(of).fold(0.0, f64::max)
+            Shape::Cone(c) => of(&c.base).max(of(&c.apex)).max(c.base_radius.abs()).max(c.apex_radius.abs()),
+            Shape::Polygon { .. } | Shape::Patch(_) => {
+                self.vertices().unwrap_or_default().iter().map(of).fold(0.0, f64::max)
             }
             Shape::Plane { points } => points.iter().map(of).fold(0.0, f64::max),
-            Shape::Box { min, max } => of(min).max(of(max)),
+            Shape::Box(b) => of(&b.min).max(of(&b.max)),
+        }
+    }
+
+    /// A [`Shape::Cone`].
+    pub fn cone(base: DVec3, base_radius: f64, apex: DVec3, apex_radius: f64) -> Shape {
+        Shape::Cone(Box::new(Cone { base, base_radius, apex, apex_radius }))
+    }
+
+    /// A [`Shape::Patch`].
+    pub fn patch(vertices: Vec<DVec3>, normals: Vec<DVec3>) -> Shape {
+        Shape::Patch(Box::new(Patch { vertices, normals }))
+    }
+
+    /// A [`Shape::Plane`].
+    pub fn plane(points: [DVec3; 3]) -> Shape {
+        Shape::Plane { points: Box::new(points) }
+    }
+
+    /// A [`Shape::Box`].
+    pub fn aabb(min: DVec3, max: DVec3) -> Shape {
+        Shape::Box(Box::new(AxisBox { min, max }))
+    }
+
+    /// A polygon's or a patch's vertices.
+    pub fn vertices(&self) -> Option<&[DVec3]> {
+        match self {
+            Shape::Polygon { vertices } => Some(vertices),
+            Shape::Patch(p) => Some(&p.vertices),
+            _ => None,
         }
     }
 

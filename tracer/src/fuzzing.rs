@@ -8,7 +8,6 @@ use crate::prepare::{prepare, PrepareOptions, RenderScene, PRECISION_RANGE};
 use crate::render::{render, RenderSettings};
 use nffkit_formats::fuzzing::Target;
 use nffkit_formats::nff::{self, ParseOptions};
-use nffkit_formats::Shape;
 
 /// Every target, by the name of its fuzz binary and regression folder.
 pub const TARGETS: [Target; 1] = [("render_nff", render_nff)];
@@ -25,14 +24,7 @@ const MAX_LIGHTS: usize = 8;
 pub fn render_nff(data: &[u8]) {
     let Ok(parsed) = nff::parse(data, &ParseOptions { lenient: true, ..Default::default() }) else { return };
     let scene = parsed.scene;
-    let vertices: usize = scene
-        .primitives
-        .iter()
-        .map(|p| match &p.shape {
-            Shape::Polygon { vertices } | Shape::Patch { vertices, .. } => vertices.len(),
-            _ => 1,
-        })
-        .sum();
+    let vertices: usize = scene.primitives.iter().map(|p| p.shape.vertices().map_or(1, <[_]>::len)).sum();
     if scene.view.is_none()
         || scene.primitives.len() > MAX_PRIMITIVES
         || vertices > MAX_VERTICES

@@ -313,8 +313,8 @@ pub(crate) fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_s
     // grow.
     let (spheres, triangles) = scene.primitives.iter().fold((0, 0), |(s, t), p| match &p.shape {
         Shape::Sphere { .. } => (s + 1, t),
-        Shape::Polygon { vertices } | Shape::Patch { vertices, .. } => {
-            (s, t + vertices.len().saturating_sub(2))
+        shape @ (Shape::Polygon { .. } | Shape::Patch(_)) => {
+            (s, t + shape.vertices().unwrap_or_default().len().saturating_sub(2))
         }
         Shape::Box { .. } => (s, t + 12),
         _ => (s, t),
@@ -347,7 +347,8 @@ pub(crate) fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_s
                 g.spheres.push(Sphere::new(v3(*center), radius.abs() as f32));
                 info[Kind::Sphere as usize].push(record(cull(*radius < 0.0), None));
             }
-            Shape::Cone { base, base_radius, apex, apex_radius } => {
+            Shape::Cone(cone) => {
+                let nffkit_formats::Cone { base, base_radius, apex, apex_radius } = &**cone;
                 let (b, a) = (v3(*base), v3(*apex));
                 let height = (a - b).length();
                 if height == 0.0 || (*base_radius == 0.0 && *apex_radius == 0.0) {
@@ -363,7 +364,8 @@ pub(crate) fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_s
                     info[Kind::Triangle as usize].push(record(cull(false), None));
                 }
             }
-            Shape::Patch { vertices, normals } => {
+            Shape::Patch(patch) => {
+                let nffkit_formats::Patch { vertices, normals } = &**patch;
                 for t in triangles_of(vertices) {
                     g.triangles.push(Triangle { v: t.map(|i| v3(vertices[i as usize])) });
                     let n = t.map(|i| v3(normals[i as usize]).normalize_or_zero());
@@ -372,7 +374,8 @@ pub(crate) fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_s
                     g.patch_normals.push(n);
                 }
             }
-            Shape::Plane { points: [a, b, c] } => {
+            Shape::Plane { points } => {
+                let [a, b, c] = &**points;
                 let (a, b, c) = (*a, *b, *c);
                 // The normal in double precision: the points may be far apart.
                 let n = (b - a).cross(c - a).normalize();
@@ -382,7 +385,8 @@ pub(crate) fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_s
                 g.planes.push(Plane { point: v3(a), n: v3(n) });
                 info[Kind::Plane as usize].push(record(cull(false), None));
             }
-            Shape::Box { min, max } => {
+            Shape::Box(aabb) => {
+                let nffkit_formats::AxisBox { min, max } = &**aabb;
                 for [a, b, c, d] in box_faces(*min, *max) {
                     for t in [[a, b, c], [a, c, d]] {
                         g.triangles.push(Triangle { v: t.map(v3) });

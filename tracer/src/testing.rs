@@ -52,18 +52,13 @@ pub fn random_scene(seed: u64, n: usize, one_sided: bool) -> Geometry {
         let shape = match i % 6 {
             0 | 5 => Shape::Sphere { center: c, radius: if i % 12 == 5 { -0.5 } else { 0.1 + rnd() * 0.8 } },
             1 => Shape::Polygon { vertices: (0..3).map(|_| c + jitter(&mut rnd)).collect() },
-            2 => Shape::Cone {
-                base: c,
-                base_radius: 0.1 + rnd() * 0.5,
-                apex: c + jitter(&mut rnd),
-                apex_radius: rnd() * 0.3,
-            },
-            3 => Shape::Patch {
-                vertices: vec![c, c + DVec3::X, c + DVec3::new(rnd(), 1.0, rnd())],
-                normals: vec![DVec3::Z, DVec3::new(0.1, 0.0, 1.0), DVec3::new(0.0, 0.2, 1.0)],
-            },
-            _ if i % 24 == 4 => Shape::Plane { points: [c, c + DVec3::X, c + DVec3::new(rnd(), rnd(), 1.0)] },
-            _ => Shape::Box { min: c, max: c + DVec3::new(rnd(), rnd(), rnd()) },
+            2 => Shape::cone(c, 0.1 + rnd() * 0.5, c + jitter(&mut rnd), rnd() * 0.3),
+            3 => Shape::patch(
+                vec![c, c + DVec3::X, c + DVec3::new(rnd(), 1.0, rnd())],
+                vec![DVec3::Z, DVec3::new(0.1, 0.0, 1.0), DVec3::new(0.0, 0.2, 1.0)],
+            ),
+            _ if i % 24 == 4 => Shape::plane([c, c + DVec3::X, c + DVec3::new(rnd(), rnd(), 1.0)]),
+            _ => Shape::aabb(c, c + DVec3::new(rnd(), rnd(), rnd())),
         };
         scene.primitives.push(Primitive { shape, material: None, line: SourceLine(0) });
     }

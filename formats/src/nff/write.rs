@@ -2,7 +2,7 @@
 //! write millions of spheres without holding them); [`write`] writes a whole
 //! [`Scene`], in its own dialect (NFF or the course's P3F).
 
-use crate::scene::{Dialect, Light, Material, Scene, Shape, View};
+use crate::scene::{AxisBox, Cone, Dialect, Light, Material, Scene, Shape, View};
 use glam::DVec3;
 use std::io::{self, Write};
 
@@ -165,18 +165,21 @@ impl<W: Write> NffWriter<W> {
     pub fn shape(&mut self, s: &Shape) -> io::Result<()> {
         match s {
             Shape::Sphere { center, radius } => self.sphere(*center, *radius),
-            Shape::Cone { base, base_radius, apex, apex_radius } => {
+            Shape::Cone(cone) => {
+                let Cone { base, base_radius, apex, apex_radius } = &**cone;
                 self.out.write_all(b"c\n")?;
                 self.nums(&[base.x, base.y, base.z, *base_radius])?;
                 self.nums(&[apex.x, apex.y, apex.z, *apex_radius])
             }
             Shape::Polygon { vertices } => self.polygon(vertices),
-            Shape::Patch { vertices, normals } => self.patch(vertices, normals),
-            Shape::Plane { points: [a, b, c] } => {
+            Shape::Patch(p) => self.patch(&p.vertices, &p.normals),
+            Shape::Plane { points } => {
+                let [a, b, c] = &**points;
                 self.out.write_all(b"pl ")?;
                 self.nums(&[a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z])
             }
-            Shape::Box { min, max } => {
+            Shape::Box(aabb) => {
+                let AxisBox { min, max } = &**aabb;
                 self.out.write_all(if self.p3f() { b"box " } else { b"aabb " })?;
                 self.nums(&[min.x, min.y, min.z, max.x, max.y, max.z])
             }

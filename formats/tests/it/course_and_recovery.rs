@@ -28,12 +28,9 @@ fn pl_and_aabb_are_read_noted_written_back_and_refused_when_strict() {
     let src = format!("{VIEW}l 1 1 1\npl 0 0 0 1 0 0 0 0 -1\nf 1 0 0 1 0 1 0 1\naabb 1 2 3 -1 5 6\n");
     let parsed = nff::parse(src.as_bytes(), &ParseOptions::default()).unwrap();
     let s = &parsed.scene;
-    assert_eq!(s.primitives[0].shape, Shape::Plane { points: [DVec3::ZERO, DVec3::X, DVec3::NEG_Z] });
+    assert_eq!(s.primitives[0].shape, Shape::plane([DVec3::ZERO, DVec3::X, DVec3::NEG_Z]));
     // Corners given out of order are taken as opposite corners, with a warning.
-    assert_eq!(
-        s.primitives[1].shape,
-        Shape::Box { min: DVec3::new(-1.0, 2.0, 3.0), max: DVec3::new(1.0, 5.0, 6.0) }
-    );
+    assert_eq!(s.primitives[1].shape, Shape::aabb(DVec3::new(-1.0, 2.0, 3.0), DVec3::new(1.0, 5.0, 6.0)));
     assert_eq!(s.primitives[1].material, Some(0));
     assert_eq!(s.counts(), [0, 0, 0, 0, 1, 1]);
     assert_eq!(at(&parsed.diagnostics, Severity::Note, "extension"), [(9, 1), (11, 1)]);

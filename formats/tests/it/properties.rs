@@ -25,16 +25,12 @@ fn vec3() -> impl Strategy<Value = DVec3> {
 fn shape() -> impl Strategy<Value = Shape> {
     prop_oneof![
         (vec3(), num()).prop_map(|(center, radius)| Shape::Sphere { center, radius }),
-        (vec3(), 0.0..5.0f64, vec3(), 0.0..5.0f64).prop_map(|(base, br, apex, ar)| Shape::Cone {
-            base,
-            base_radius: br,
-            apex: apex + DVec3::new(0.0, 0.0, 7.0e7),
-            apex_radius: ar
+        (vec3(), 0.0..5.0f64, vec3(), 0.0..5.0f64).prop_map(|(base, br, apex, ar)| {
+            Shape::cone(base, br, apex + DVec3::new(0.0, 0.0, 7.0e7), ar)
         }),
         prop::collection::vec(vec3(), 3..8).prop_map(|vertices| Shape::Polygon { vertices }),
-        prop::collection::vec((vec3(), vec3()), 3..6).prop_map(|vn| Shape::Patch {
-            vertices: vn.iter().map(|p| p.0).collect(),
-            normals: vn.iter().map(|p| p.1).collect(),
+        prop::collection::vec((vec3(), vec3()), 3..6).prop_map(|vn| {
+            Shape::patch(vn.iter().map(|p| p.0).collect(), vn.iter().map(|p| p.1).collect())
         }),
     ]
 }
@@ -128,7 +124,7 @@ prop_compose! {
         }
         let material = s.primitives.last().and_then(|p| p.material);
         s.primitives.extend(boxes.into_iter().map(|(min, (x, y, z))| Primitive {
-            shape: Shape::Box { min, max: min + DVec3::new(x, y, z) },
+            shape: Shape::aabb(min, min + DVec3::new(x, y, z)),
             material,
             line: SourceLine(0),
         }));

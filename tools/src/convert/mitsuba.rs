@@ -119,9 +119,8 @@ pub fn write(scene: &Scene, opts: &ExportOptions, ply_name: impl Fn(usize) -> St
                 );
             }
             Shape::Sphere { .. } => {}
-            Shape::Cone { base, base_radius, apex, apex_radius }
-                if base_radius.abs() == apex_radius.abs() =>
-            {
+            Shape::Cone(cone) if cone.base_radius.abs() == cone.apex_radius.abs() => {
+                let nffkit_formats::Cone { base, base_radius, apex, .. } = &**cone;
                 let _ = writeln!(
                     x,
                     "  <shape type=\"cylinder\"><point name=\"p0\" value=\"{}\"/><point name=\"p1\" value=\"{}\"/><float name=\"radius\" value=\"{}\"/><ref id=\"m{m}\"/></shape>",

@@ -146,7 +146,8 @@ fn shapes(scene: &Scene, out: &mut dyn Write) -> io::Result<()> {
             Shape::Sphere { center, radius } if *radius != 0.0 => {
                 writeln!(out, "sphere {{ <{}>, {} {with} }}", vec3(*center), num(radius.abs()))?
             }
-            Shape::Cone { base, base_radius, apex, apex_radius } => {
+            Shape::Cone(cone) => {
+                let nffkit_formats::Cone { base, base_radius, apex, apex_radius } = &**cone;
                 let (r0, r1) = (base_radius.abs(), apex_radius.abs());
                 if r0 == r1 {
                     writeln!(
@@ -168,14 +169,15 @@ fn shapes(scene: &Scene, out: &mut dyn Write) -> io::Result<()> {
                 }
             }
             Shape::Polygon { vertices } => mesh.add(vertices, None),
-            Shape::Patch { vertices, normals } => mesh.add(vertices, Some(normals)),
-            Shape::Plane { points: [a, b, c] } => {
+            Shape::Patch(p) => mesh.add(&p.vertices, Some(&p.normals)),
+            Shape::Plane { points } => {
+                let [a, b, c] = &**points;
                 let n = (*b - *a).cross(*c - *a).normalize();
                 if n.is_finite() {
                     writeln!(out, "plane {{ <{}>, {} {with} }}", vec3(n), num(n.dot(*a)))?
                 }
             }
-            Shape::Box { min, max } => writeln!(out, "box {{ <{}>, <{}> {with} }}", vec3(*min), vec3(*max))?,
+            Shape::Box(b) => writeln!(out, "box {{ <{}>, <{}> {with} }}", vec3(b.min), vec3(b.max))?,
             Shape::Sphere { .. } => {}
         }
     }

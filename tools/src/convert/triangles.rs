@@ -72,17 +72,20 @@ pub fn groups(scene: &Scene, tessellate_at: u32) -> (Vec<Group>, Vec<String>) {
                 tessellate::sphere(*center, radius.abs(), res, |t| g.patch(t))
             }
             Shape::Sphere { .. } => {}
-            Shape::Cone { base, base_radius, apex, apex_radius } => {
+            Shape::Cone(cone) => {
+                let nffkit_formats::Cone { base, base_radius, apex, apex_radius } = &**cone;
                 tessellate::cone(*base, base_radius.abs(), *apex, apex_radius.abs(), res, |t| g.patch(t))
             }
             Shape::Polygon { vertices } => g.polygon(vertices, None),
-            Shape::Patch { vertices, normals } => g.polygon(vertices, Some(normals)),
-            Shape::Box { min, max } => {
+            Shape::Patch(p) => g.polygon(&p.vertices, Some(&p.normals)),
+            Shape::Box(aabb) => {
+                let nffkit_formats::AxisBox { min, max } = &**aabb;
                 for face in box_faces(*min, *max) {
                     g.polygon(&face, None);
                 }
             }
-            Shape::Plane { points: [a, b, c] } => {
+            Shape::Plane { points } => {
+                let [a, b, c] = &**points;
                 let n = (*b - *a).cross(*c - *a).normalize();
                 if !n.is_finite() {
                     continue;

@@ -12,7 +12,7 @@
 use super::scene_warnings::SceneWarning;
 use glam::{DVec2, DVec3};
 use nffkit_formats::polygon::{newell_normal, project};
-use nffkit_formats::{Primitive, Shape};
+use nffkit_formats::Primitive;
 use std::collections::HashMap;
 
 /// Pair tests at most, so that a huge flat mesh costs bounded time.
@@ -49,16 +49,13 @@ impl Plane {
 pub fn coplanar_overlaps(flats: &[&Primitive]) -> Option<SceneWarning> {
     let scale = flats
         .iter()
-        .filter_map(|p| match &p.shape {
-            Shape::Polygon { vertices } | Shape::Patch { vertices, .. } => Some(vertices),
-            _ => None,
-        })
+        .filter_map(|p| p.shape.vertices())
         .flatten()
         .fold(0.0f64, |m, v| m.max(v.abs().max_element()));
     let mut planes: HashMap<[i64; 4], Plane> = HashMap::new();
     let mut outline = Vec::new();
     for prim in flats {
-        let (Shape::Polygon { vertices } | Shape::Patch { vertices, .. }) = &prim.shape else { continue };
+        let Some(vertices) = prim.shape.vertices() else { continue };
         if let Some(key) = flat(vertices, scale, &mut outline) {
             let plane = planes.entry(key).or_default();
             let min = outline.iter().fold(DVec2::INFINITY, |m, p| m.min(*p));

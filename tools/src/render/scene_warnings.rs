@@ -164,11 +164,13 @@ fn in_a_plane_of(shape: &Shape, light: DVec3) -> bool {
             let radius = vertices.iter().map(|v| v.distance(origin)).fold(0.0, f64::max);
             n != DVec3::ZERO && near(n.dot(light - origin), light.distance(origin) + radius)
         }
-        Shape::Plane { points: [a, b, c] } => {
+        Shape::Plane { points } => {
+            let [a, b, c] = &**points;
             let n = (*b - *a).cross(*c - *a).normalize_or_zero();
             n != DVec3::ZERO && near(n.dot(light - *a), light.distance(*a))
         }
-        Shape::Box { min, max } => {
+        Shape::Box(aabb) => {
+            let nffkit_formats::AxisBox { min, max } = &**aabb;
             let scale = light.distance((*min + *max) / 2.0) + min.distance(*max);
             (0..3).any(|a| near(light[a] - min[a], scale) || near(light[a] - max[a], scale))
         }

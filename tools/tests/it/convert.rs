@@ -176,9 +176,11 @@ fn triangles(text: &[u8], digits: i32) -> Vec<[[i64; 3]; 3]> {
     let mut polygons: Vec<Vec<DVec3>> = Vec::new();
     for p in &scene.primitives {
         match &p.shape {
-            Shape::Polygon { vertices } | Shape::Patch { vertices, .. } => polygons.push(vertices.clone()),
+            Shape::Polygon { vertices } => polygons.push(vertices.clone()),
+            Shape::Patch(patch) => polygons.push(patch.vertices.clone()),
             // A box's six faces, each a quadrilateral.
-            Shape::Box { min, max } => {
+            Shape::Box(aabb) => {
+                let nffkit_formats::AxisBox { min, max } = &**aabb;
                 let c = |x: bool, y: bool, z: bool| {
                     DVec3::new(
                         if x { max.x } else { min.x },

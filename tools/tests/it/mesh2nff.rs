@@ -24,10 +24,7 @@ fn write_file(dir: &Path, name: &str, text: &str) -> PathBuf {
 }
 
 fn vertices(s: &Shape) -> &[DVec3] {
-    match s {
-        Shape::Polygon { vertices } | Shape::Patch { vertices, .. } => vertices,
-        _ => panic!("not a polygon"),
-    }
+    s.vertices().expect("a polygon")
 }
 
 fn normal(s: &Shape) -> DVec3 {
@@ -62,7 +59,7 @@ fn obj_with_normals_gives_patches_and_smooth_computes_them() {
     let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\n";
     let (scene, summary, _) = convert(&write_file(dir.path(), "t.obj", text), &Options::default());
     assert_eq!(summary.patches, 1);
-    assert!(matches!(&scene.primitives[0].shape, Shape::Patch { normals, .. } if normals[0] == DVec3::Z));
+    assert!(matches!(&scene.primitives[0].shape, Shape::Patch(patch) if patch.normals[0] == DVec3::Z));
     let p = write_file(dir.path(), "cube.obj", &format!("{CUBE}{CUBE_FACES}"));
     let (_, s, _) = convert(&p, &Options { smooth: true, ..Default::default() });
     assert_eq!(s.patches, 6);

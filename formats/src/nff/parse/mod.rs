@@ -723,7 +723,7 @@ impl<'a> Parser<'a> {
                 ),
             );
         }
-        self.object(t, Shape::Cone { base, base_radius, apex, apex_radius });
+        self.object(t, Shape::cone(base, base_radius, apex, apex_radius));
         Ok(())
     }
 
@@ -744,7 +744,7 @@ impl<'a> Parser<'a> {
         for w in warnings {
             self.warn(&t, w);
         }
-        let shape = if patch { Shape::Patch { vertices, normals } } else { Shape::Polygon { vertices } };
+        let shape = if patch { Shape::patch(vertices, normals) } else { Shape::Polygon { vertices } };
         self.object(t, shape);
         Ok(())
     }
@@ -781,7 +781,7 @@ impl<'a> Parser<'a> {
         if !p3f {
             self.note(&t, "`pl` (infinite plane through three points) is a course extension to NFF".into());
         }
-        self.object(t, Shape::Plane { points });
+        self.object(t, Shape::plane(points));
         Ok(())
     }
 
@@ -802,7 +802,7 @@ impl<'a> Parser<'a> {
         if self.opts.dialect == Dialect::Nff {
             self.note(&t, "`aabb` (axis-aligned box) is a course extension to NFF".into());
         }
-        self.object(t, Shape::Box { min: lo.min(hi), max: lo.max(hi) });
+        self.object(t, Shape::aabb(lo.min(hi), lo.max(hi)));
         Ok(())
     }
 
