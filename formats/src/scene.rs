@@ -305,16 +305,8 @@ impl Shape {
                 let ra = DVec3::splat(c.apex_radius.abs());
                 ((c.base - rb).min(c.apex - ra), (c.base + rb).max(c.apex + ra))
             }
-            Shape::Polygon { .. } | Shape::Patch(_) => {
-                let vertices = self.vertices().unwrap_or_default();
-                let mut lo = DVec3::splat(f64::INFINITY);
-                let mut hi = DVec3::splat(f64::NEG_INFINITY);
-                for v in vertices {
-                    lo = lo.min(*v);
-                    hi = hi.max(*v);
-                }
-                (lo, hi)
-            }
+            Shape::Polygon { vertices } => vertex_bounds(vertices),
+            Shape::Patch(p) => vertex_bounds(&p.vertices),
             Shape::Box(b) => (b.min.min(b.max), b.min.max(b.max)),
             Shape::Plane { .. } => return None,
         })
@@ -324,13 +316,13 @@ impl Shape {
     /// (normals aside), to compare with [`MAX_COORDINATE`].
     pub fn magnitude(&self) -> f64 {
         let of = |v: &DVec3| v.abs().max_element();
+        let of_all = |vs: &[DVec3]| vs.iter().map(of).fold(0.0, f64::max);
         match self {
             Shape::Sphere { center, radius } => of(center).max(radius.abs()),
             Shape::Cone(c) => of(&c.base).max(of(&c.apex)).max(c.base_radius.abs()).max(c.apex_radius.abs()),
-            Shape::Polygon { .. } | Shape::Patch(_) => {
-                self.vertices().unwrap_or_default().iter().map(of).fold(0.0, f64::max)
-            }
-            Shape::Plane { points } => points.iter().map(of).fold(0.0, f64::max),
+            Shape::Polygon { vertices } => of_all(vertices),
+            Shape::Patch(p) => of_all(&p.vertices),
+            Shape::Plane { points } => of_all(&points[..]),
             Shape::Box(b) => of(&b.min).max(of(&b.max)),
         }
     }
@@ -375,6 +367,17 @@ impl Shape {
             Shape::Box { .. } => ShapeKind::Box,
         }
     }
+}
+
+/// The box of a polygon's vertices.
+fn vertex_bounds(vertices: &[DVec3]) -> (DVec3, DVec3) {
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for v in vertices {
+        lo = lo.min(*v);
+        hi = hi.max(*v);
+    }
+    (lo, hi)
 }
 
 /// A shape with the material it was given.

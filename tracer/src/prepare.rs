@@ -313,9 +313,8 @@ pub(crate) fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_s
     // grow.
     let (spheres, triangles) = scene.primitives.iter().fold((0, 0), |(s, t), p| match &p.shape {
         Shape::Sphere { .. } => (s + 1, t),
-        shape @ (Shape::Polygon { .. } | Shape::Patch(_)) => {
-            (s, t + shape.vertices().unwrap_or_default().len().saturating_sub(2))
-        }
+        Shape::Polygon { vertices } => (s, t + vertices.len().saturating_sub(2)),
+        Shape::Patch(p) => (s, t + p.vertices.len().saturating_sub(2)),
         Shape::Box { .. } => (s, t + 12),
         _ => (s, t),
     });
