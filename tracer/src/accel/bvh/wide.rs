@@ -358,8 +358,10 @@ impl Node4 {
         mask: Mask,
     ) -> ([Mask; 4], [f32; 4]) {
         let mut masks = [0; 4];
-        let mut nearest = [f32::INFINITY; 4];
         let inf = s.splat(f32::INFINITY);
+        // Per slot, the entry distances of the lanes that hit (else
+        // infinity), reduced for all four slots at once below.
+        let mut near_min = [inf; 4];
         for slot in 0..4 {
             if !self.used(slot) {
                 continue;
@@ -368,7 +370,6 @@ impl Node4 {
             let lo = [lo[0][slot], lo[1][slot], lo[2][slot]];
             let hi = [hi[0][slot], hi[1][slot], hi[2][slot]];
             let mut m: Mask = 0;
-            let mut near_min = inf;
             for g in 0..LANES / V::W {
                 if !group_active::<V>(mask, g) {
                     continue;
@@ -386,15 +387,16 @@ impl Node4 {
                 let hit = t_near.le(t_far);
                 m |= group_bits::<V>(hit, g);
                 if !Q::ANY_HIT {
-                    near_min = near_min.min(V::select(hit, t_near, inf));
+                    near_min[slot] = near_min[slot].min(V::select(hit, t_near, inf));
                 }
             }
             masks[slot] = m & mask;
-            if !Q::ANY_HIT && masks[slot] != 0 {
-                nearest[slot] = near_min.hmin();
-            }
         }
-        (masks, nearest)
+        if Q::ANY_HIT || masks == [0; 4] {
+            return (masks, [f32::INFINITY; 4]);
+        }
+        let nearest = V::hmin4(near_min);
+        (masks, std::array::from_fn(|slot| if masks[slot] != 0 { nearest[slot] } else { f32::INFINITY }))
     }
 
     /// Whether child `slot` holds anything (an unused slot's box is empty).
