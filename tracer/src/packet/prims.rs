@@ -101,6 +101,13 @@ fn sphere_lanes<V: F32s>(
         let b = fx.mul(dx).add(fy.mul(dy)).add(fz.mul(dz)).neg();
         let (lx, ly, lz) = (fx.add(b.mul(dx)), fy.add(b.mul(dy)), fz.add(b.mul(dz)));
         let disc = r2.sub(lx.mul(lx).add(ly.mul(ly)).add(lz.mul(lz)));
+        // disc < 0 misses; a NaN disc gives NaN roots, which `ok` rejects.
+        let reach = group_bits::<V>(zero.le(disc), g) & mask;
+        if reach == 0 {
+            // No lane of the group meets the sphere: its roots (a square
+            // root and a division) are not needed.
+            continue;
+        }
         let cc = fx.mul(fx).add(fy.mul(fy)).add(fz.mul(fz)).sub(r2);
         let qq = b.add(disc.sqrt().copysign(b));
         let is_zero = qq.eq(zero);
@@ -117,8 +124,7 @@ fn sphere_lanes<V: F32s>(
             Cull::Front => (ok1, t1),
         };
         tg.store(t, g);
-        // disc < 0 misses; a NaN disc gives NaN roots, which `ok` rejects.
-        found |= group_bits::<V>(V::and(hit, zero.le(disc)), g);
+        found |= group_bits::<V>(hit, g) & reach;
     }
     found
 }
@@ -190,12 +196,7 @@ fn triangle_lanes<V: F32s>(
         let any_neg = V::or(V::or(u.lt(zero), v.lt(zero)), w.lt(zero));
         let any_pos = V::or(V::or(zero.lt(u), zero.lt(v)), zero.lt(w));
         let det = u.add(v).add(w);
-        let t = u.mul(sz.mul(a_z)).add(v.mul(sz.mul(b_z))).add(w.mul(sz.mul(c_z))).div(det);
-        let inside = V::and(s.load(&p.t_min.0, g).lt(t), t.lt(s.load(limit, g)));
-        let inv = s.splat(1.0).div(det);
-        t.store(&mut out.t, g);
-        v.mul(inv).store(&mut out.u, g);
-        w.mul(inv).store(&mut out.v, g);
+        out.slow |= group_bits::<V>(edge, g);
         // Accepted: inside all edges (or outside all, seen from the back),
         // det != 0 (NaN t then fails `inside`), not culled, t in range.
         let facing = match cull {
@@ -204,8 +205,19 @@ fn triangle_lanes<V: F32s>(
             Cull::Front => !V::bits(zero.lt(det)),
         };
         let nonzero = !V::bits(det.eq(zero));
-        let mut bits =
-            V::bits(inside) & !V::bits(V::and(any_neg, any_pos)) & nonzero & facing & !V::bits(edge);
+        let within = !V::bits(V::and(any_neg, any_pos)) & nonzero & facing & !V::bits(edge);
+        if (within << (g * V::W)) & mask == 0 {
+            // No lane of the group inside the edges: its distance and
+            // barycentrics (two divisions) are not needed.
+            continue;
+        }
+        let t = u.mul(sz.mul(a_z)).add(v.mul(sz.mul(b_z))).add(w.mul(sz.mul(c_z))).div(det);
+        let inside = V::and(s.load(&p.t_min.0, g).lt(t), t.lt(s.load(limit, g)));
+        let inv = s.splat(1.0).div(det);
+        t.store(&mut out.t, g);
+        v.mul(inv).store(&mut out.u, g);
+        w.mul(inv).store(&mut out.v, g);
+        let mut bits = V::bits(inside) & within;
         bits &= (1 << V::W) - 1;
         if bits != 0 {
             // [`crate::math::triangle_t_error`], lane-wise: t beyond its
@@ -219,6 +231,5 @@ fn triangle_lanes<V: F32s>(
             bits &= !V::bits(t.le(delta_t));
         }
         out.found |= bits << (g * V::W);
-        out.slow |= group_bits::<V>(edge, g);
     }
 }
