@@ -35,3 +35,29 @@ fn benchmark_prints_its_tables() {
     let times: Vec<f64> = check.split('|').filter_map(|c| c.trim().parse().ok()).collect();
     assert!(times.len() == 2 && times.iter().all(|&t| t > 0.0 && t < 10_000.0), "{check}");
 }
+
+/// `raybench --all` traces the same eye rays one by one and as packets:
+/// both find the same number of hits, and every rate is a number.
+#[test]
+fn raybench_all_measures_single_rays_and_packets_alike() {
+    let scene = format!("{}/../scenes/spd/balls_s1.nff", env!("CARGO_MANIFEST_DIR"));
+    let out = Command::new(env!("CARGO_BIN_EXE_raybench"))
+        .args([scene.as_str(), "--size", "32", "--runs", "1", "--all"])
+        .output()
+        .expect("raybench runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}\n{}", stdout, String::from_utf8_lossy(&out.stderr));
+    // "eye R (H hit), shadow R (N rays), eye packets R (H hit), shadow packets R"
+    let figures: Vec<f64> = stdout
+        .split(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .filter(|w| w.contains(|c: char| c.is_ascii_digit()))
+        .filter_map(|w| w.parse().ok())
+        .collect();
+    let n = figures.len();
+    assert!(n >= 7, "{stdout}");
+    let [eye, hits, shadow, shadow_rays, packets, packet_hits, shadow_packets] =
+        <[f64; 7]>::try_from(&figures[n - 7..]).unwrap();
+    assert!(hits > 0.0 && hits == packet_hits && hits <= 1024.0, "{stdout}");
+    assert!(shadow_rays > 0.0, "{stdout}");
+    assert!([eye, shadow, packets, shadow_packets].iter().all(|&r| r > 0.0 && r.is_finite()), "{stdout}");
+}
