@@ -433,7 +433,32 @@ pub(crate) fn intersect_triangle(
     t_max: f32,
     cull: Cull,
 ) -> Option<(f32, f32, f32)> {
-    let [kx, ky, kz] = q.k;
+    // One copy of the test per axis permutation (the six that
+    // `RayQuery::new` makes), so that a vertex's coordinates are picked by
+    // constant lanes: picked by a variable index, they went through memory,
+    // nine times a test.
+    let test = |k: [usize; 3]| intersect_triangle_permuted(tri, q, t_max, cull, k);
+    match q.k {
+        [1, 2, 0] => test([1, 2, 0]),
+        [2, 1, 0] => test([2, 1, 0]),
+        [2, 0, 1] => test([2, 0, 1]),
+        [0, 2, 1] => test([0, 2, 1]),
+        [0, 1, 2] => test([0, 1, 2]),
+        [1, 0, 2] => test([1, 0, 2]),
+        k => test(k),
+    }
+}
+
+/// [`intersect_triangle`] with the axis permutation `k` (`q.k`, as a
+/// constant where the caller can make it one).
+#[inline(always)]
+fn intersect_triangle_permuted(
+    tri: &Triangle,
+    q: &RayQuery,
+    t_max: f32,
+    cull: Cull,
+    [kx, ky, kz]: [usize; 3],
+) -> Option<(f32, f32, f32)> {
     let s = q.shear;
     let a = tri.v[0] - q.ray.o;
     let b = tri.v[1] - q.ray.o;
@@ -618,6 +643,36 @@ mod tests {
                 || intersect_triangle(&b, &rq, 100.0, Cull::None).is_some();
             assert!(hit, "ray {i} from {o} to {target} leaked");
         }
+    }
+
+    /// The test's copies for the six axis permutations each give what the
+    /// test with the permutation read at run time gives, bit for bit,
+    /// for rays along every major axis, both ways, hitting and missing.
+    #[test]
+    fn each_permutation_copy_is_the_test_with_that_permutation() {
+        let mut rnd = crate::testing::uniform(0x5eed_7a11_9e37_79b9);
+        let mut seen = std::collections::BTreeSet::new();
+        let (mut hits, mut edge) = (0, 0);
+        for i in 0..6000 {
+            let mut v = || Vec3A::new(rnd() * 2.0 - 1.0, rnd() * 2.0 - 1.0, rnd() * 2.0 - 1.0);
+            let t = Triangle { v: [v(), v(), v()] };
+            let o = v() * 4.0;
+            // Aimed at a vertex now and then (the double-precision path),
+            // else near the triangle.
+            let target = if i % 7 == 0 { t.v[i % 3] } else { (t.v[0] + t.v[1] + t.v[2]) / 3.0 + v() * 0.6 };
+            let rq = RayQuery::new(Ray::new(o, target - o), 0.0);
+            seen.insert(rq.k);
+            for cull in [Cull::None, Cull::Back, Cull::Front] {
+                let fixed = intersect_triangle(&t, &rq, 100.0, cull);
+                let read = intersect_triangle_permuted(&t, &rq, 100.0, cull, std::hint::black_box(rq.k));
+                let bits = |h: Option<(f32, f32, f32)>| h.map(|(t, u, v)| [t, u, v].map(f32::to_bits));
+                assert_eq!(bits(fixed), bits(read), "ray {i}, permutation {:?}, {cull:?}", rq.k);
+                hits += usize::from(fixed.is_some());
+            }
+            edge += usize::from(i % 7 == 0);
+        }
+        assert_eq!(seen.len(), 6, "permutations seen: {seen:?}");
+        assert!(hits > 2000 && edge > 500, "{hits} hits");
     }
 
     fn cylinder() -> Cone {
