@@ -133,6 +133,9 @@ struct LightRay {
 /// internal reflection (plain rule only), the refracted ray.
 type Spawned = [Option<(Ray, f32)>; 3];
 
+/// The shares of a [`Spawned`], without its rays.
+type Shares = [Option<f32>; 3];
+
 impl Whitted<'_> {
     /// Radiance along `ray`, which starts at distance `t_min` (the hither
     /// plane for eye rays), has path depth `depth` (1 for eye rays) and
@@ -216,7 +219,7 @@ impl Whitted<'_> {
 
     /// Which rays a hit at `sp` spawns, given its refracted ray (`None` on
     /// total internal reflection or where its material transmits nothing)
-    /// and its mirror ray: the rule of the module doc.
+    /// and its mirror ray: the rule of the module doc ([`Whitted::shares`]).
     #[inline(always)]
     fn choose_rays(
         &self,
@@ -226,13 +229,27 @@ impl Whitted<'_> {
         mirror_ray: impl Fn() -> Ray,
         c: &mut Counters,
     ) -> Spawned {
+        let [mirror, tir, refract] = self.shares(sp, weight, refracted.is_some(), c);
+        [
+            mirror.map(|share| (mirror_ray(), share)),
+            tir.map(|share| (mirror_ray(), share)),
+            refracted.zip(refract),
+        ]
+    }
+
+    /// The shares of the colour carried by the rays a hit at `sp` spawns
+    /// (a [`Spawned`] without the rays, which packets hold lane-wise),
+    /// given whether it has a refracted ray: the rule of the module doc.
+    /// Counts the rays.
+    #[inline(always)]
+    fn shares(&self, sp: &ShadePoint, weight: f32, refracts: bool, c: &mut Counters) -> Shares {
         let m = sp.m;
         let mut out = [None; 3];
         let min = self.settings.min_weight;
-        let tir = m.t > 0.0 && refracted.is_none();
+        let tir = m.t > 0.0 && !refracts;
         let mut mirror = |share: f32| {
             c.reflected += 1;
-            Some((mirror_ray(), share))
+            Some(share)
         };
         if m.fresnel_weighted() && !self.settings.spd {
             let kr = if tir { 1.0 } else { fresnel_reflectance(-sp.d.dot(sp.ns), m.eta(sp.entering)) };
@@ -240,9 +257,9 @@ impl Whitted<'_> {
                 out[0] = mirror(kr);
             }
             let share = m.t * (1.0 - kr);
-            if let Some(ray) = refracted.filter(|_| share > 0.0 && weight * share >= min) {
+            if refracts && share > 0.0 && weight * share >= min {
                 c.refracted += 1;
-                out[2] = Some((ray, share));
+                out[2] = Some(share);
             }
             return out;
         }
@@ -262,11 +279,9 @@ impl Whitted<'_> {
                 out[1] = mirror(m.t);
             }
         }
-        if let Some(ray) = refracted {
-            if weight * m.t >= min {
-                c.refracted += 1;
-                out[2] = Some((ray, m.t));
-            }
+        if refracts && weight * m.t >= min {
+            c.refracted += 1;
+            out[2] = Some(m.t);
         }
         out
     }

@@ -7,7 +7,7 @@
 //! [`Whitted::li`] gives for its ray: the same hits, and the same sums in
 //! the same order.
 
-use super::{tint, SampleId, ShadePoint, Spawned, ThreadState, Whitted};
+use super::{tint, SampleId, ShadePoint, ThreadState, Whitted};
 use crate::accel::Intersector;
 use crate::math::Ray;
 use crate::packet::bounce::{bounces, BounceLanes};
@@ -15,8 +15,7 @@ use crate::packet::prims::occludes;
 use crate::packet::shadow::{shadow_rays, LightLanes};
 use crate::packet::surface::surfaces;
 use crate::packet::{PacketHits, PointLanes, RayPacket, NO_PRIM};
-use crate::simd::lanes::{for_lanes, lane, set_lane, Lanes, LANES};
-use crate::stats::Counters;
+use crate::simd::lanes::{for_lanes, lane, set_lane, Lanes, Mask, LANES};
 use glam::Vec3A;
 
 /// The shading records of a packet's lanes (`None`: no hit).
@@ -34,20 +33,43 @@ impl Whitted<'_> {
         th: &mut ThreadState<I>,
         out: &mut [Vec3A],
     ) {
+        let packet = RayPacket::new(rays.iter().map(|&(ray, t_min, _)| (ray, t_min, f32::INFINITY)));
+        let mut weights = Lanes::ZERO;
+        let mut lane_ids = [SampleId { px: 0, py: 0, index: 0 }; LANES];
+        for (i, (&(_, _, w), &id)) in rays.iter().zip(ids).enumerate().take(LANES) {
+            (weights.0[i], lane_ids[i]) = (w, id);
+        }
+        let mut colors = [Vec3A::ZERO; LANES];
+        self.li_lanes(&packet, &weights, depth, &lane_ids, th, &mut colors);
+        let n = out.len().min(rays.len());
+        out[..n].copy_from_slice(&colors[..n]);
+    }
+
+    /// [`Whitted::li_packet`] of the active lanes of `packet`, wherever
+    /// they are: lane `i` carries `weights[i]` for sample `ids[i]`, and its
+    /// colour goes to `out[i]`.
+    fn li_lanes<I: Intersector>(
+        &self,
+        packet: &RayPacket,
+        weights: &Lanes,
+        depth: u32,
+        ids: &[SampleId; LANES],
+        th: &mut ThreadState<I>,
+        out: &mut [Vec3A; LANES],
+    ) {
         let scene = self.scene;
         let geom = &scene.geometry;
-        let packet = RayPacket::new(rays.iter().map(|&(ray, t_min, _)| (ray, t_min, f32::INFINITY)));
-        let mut hits = PacketHits::new(&packet);
-        th.tracer.nearest_packet(&packet, &mut hits);
+        let mut hits = PacketHits::new(packet);
+        th.tracer.nearest_packet(packet, &mut hits);
         let mut points = [None; LANES];
         let mut at = PointLanes::default();
         let mut color = [Vec3A::ZERO; LANES];
         let hit = hits.found();
-        let entering = surfaces(crate::simd::isa(), geom, &packet, &hits, hit, &mut at);
-        for (i, o) in out.iter_mut().enumerate().take(rays.len()) {
+        let entering = surfaces(crate::simd::isa(), geom, packet, &hits, hit, &mut at);
+        for_lanes(packet.active, |i| {
             if hit >> i & 1 == 0 {
-                *o = scene.miss(lane(&packet.d, i));
-                continue;
+                out[i] = scene.miss(lane(&packet.d, i));
+                return;
             }
             if depth == 1 {
                 th.tracer.counters.eye_hits += 1;
@@ -56,28 +78,33 @@ impl Whitted<'_> {
             let (p, ng, ns, d) = (lane(&at.p, i), lane(&at.ng, i), lane(&at.ns, i), lane(&packet.d, i));
             color[i] = scene.ambient * m.kd * m.color;
             points[i] = Some(ShadePoint { p, ng, ns, d, entering: entering >> i & 1 != 0, m });
-        }
+        });
         let mut shadow = RayPacket::empty();
         for k in 0..scene.lights.len() {
             self.light_packet(k, depth, &points, &at, ids, &mut color, &mut shadow, th);
         }
-        // Spawned rays, gathered per kind so that each kind is one packet.
+        // Spawned rays, each kind one packet whose lanes are their parents'
+        // lanes, their geometry taken as the bounce kernel left it.
         // (Most packets, on matte surfaces or at the last level, spawn
-        // nothing: then neither the lanes' rays nor their packets are set up.)
-        let b = self.bounce_lanes(&points, &at, &packet, depth);
+        // nothing: then no bounce is computed.)
+        let b = self.bounce_lanes(&points, &at, packet, depth);
         if b.want != 0 {
-            let mut spawned = [[None; LANES]; 3];
-            let mut any = [false; 3];
+            let mut shares = [Lanes::ZERO; 3];
+            let mut spawned: [Mask; 3] = [0; 3];
             for_lanes(b.want, |i| {
                 let Some(sp) = &points[i] else { return };
-                let rays_i = self.spawn_lane(sp, &b, i, rays[i].2, &mut th.tracer.counters);
-                for (kind, r) in rays_i.into_iter().enumerate() {
-                    any[kind] |= r.is_some();
-                    spawned[kind][i] = r;
+                let refracts = sp.m.t > 0.0 && b.refracts >> i & 1 != 0;
+                let lane_shares = self.shares(sp, weights.0[i], refracts, &mut th.tracer.counters);
+                for (kind, share) in lane_shares.into_iter().enumerate() {
+                    if let Some(share) = share {
+                        shares[kind].0[i] = share;
+                        spawned[kind] |= 1 << i;
+                    }
                 }
             });
-            for (kind, (of_kind, _)) in spawned.iter().zip(any).enumerate().filter(|k| k.1 .1) {
-                self.trace_spawned(of_kind, kind, &points, depth + 1, rays, ids, &mut color, th);
+            for kind in (0..3).filter(|&kind| spawned[kind] != 0) {
+                let bounce = Bounce { kind, lanes: spawned[kind], shares: &shares[kind] };
+                self.trace_spawned(&b, &bounce, &points, depth + 1, weights, ids, &mut color, th);
             }
         }
         for (i, sp) in points.iter().enumerate() {
@@ -161,66 +188,46 @@ impl Whitted<'_> {
         });
     }
 
-    /// Trace one kind of spawned ray (`(ray, share)` per lane, or none;
-    /// `kind` its index in [`Spawned`]) at `depth`, as a packet when more
-    /// than one lane has one, adding `share × tint × radiance` to the
-    /// lane's colour (`points` holding the lanes' materials).
+    /// Trace the rays of one kind that `bounce` spawns at `depth` from the
+    /// bounces `b`, as a packet of their parents' lanes when there are
+    /// several, adding `share × tint × radiance` to each lane's colour
+    /// (`points` holding the lanes' materials, `parents` their weights).
     #[allow(clippy::too_many_arguments)]
     fn trace_spawned<I: Intersector>(
         &self,
-        spawned: &[Option<(Ray, f32)>; LANES],
-        kind: usize,
+        b: &BounceLanes,
+        bounce: &Bounce,
         points: &Points,
         depth: u32,
-        parents: &[(Ray, f32, f32)],
-        ids: &[SampleId],
+        parents: &Lanes,
+        ids: &[SampleId; LANES],
         color: &mut [Vec3A; LANES],
         th: &mut ThreadState<I>,
     ) {
-        let mut lanes = [0usize; LANES];
-        let mut rays = [(Ray { o: Vec3A::ZERO, d: Vec3A::Z }, 0.0, 0.0); LANES];
-        let mut sub_ids = [SampleId { px: 0, py: 0, index: 0 }; LANES];
-        let mut n = 0;
-        for (i, s) in spawned.iter().enumerate() {
-            if let Some((ray, share)) = *s {
-                (lanes[n], rays[n], sub_ids[n]) = (i, (ray, 0.0, parents[i].2 * share), ids[i]);
-                n += 1;
-            }
-        }
+        let Bounce { kind, lanes, shares } = *bounce;
+        let (o, d) = if kind == 2 { (&b.refract_o, &b.refract_d) } else { (&b.mirror_o, &b.mirror_d) };
+        let mut weights = Lanes::ZERO;
+        for_lanes(lanes, |i| weights.0[i] = parents.0[i] * shares.0[i]);
         let mut radiance = [Vec3A::ZERO; LANES];
-        if n == 1 {
-            let (ray, _, weight) = rays[0];
-            radiance[0] = self.li(ray, 0.0, depth, weight, sub_ids[0], th);
-        } else if n > 1 {
-            self.li_packet(&rays[..n], depth, &sub_ids[..n], th, &mut radiance);
+        if lanes.count_ones() == 1 {
+            let i = lanes.trailing_zeros() as usize;
+            let ray = Ray { o: lane(o, i), d: lane(d, i) };
+            radiance[i] = self.li(ray, 0.0, depth, weights.0[i], ids[i], th);
+        } else {
+            let packet = RayPacket::from_lanes(o, d, lanes);
+            self.li_lanes(&packet, &weights, depth, ids, th, &mut radiance);
         }
-        for j in 0..n {
-            let i = lanes[j];
-            let share = spawned[i].map_or(0.0, |s| s.1);
+        for_lanes(lanes, |i| {
             let tint = points[i].as_ref().map_or(Vec3A::ONE, |sp| tint(kind, sp.m));
-            color[i] += share * tint * radiance[j];
-        }
+            color[i] += shares.0[i] * tint * radiance[i];
+        });
     }
+}
 
-    /// [`Whitted::spawn`] for lane `i` of a packet whose bounces were
-    /// computed lane-wise ([`bounces`]).
-    #[inline(always)]
-    fn spawn_lane(
-        &self,
-        sp: &ShadePoint,
-        b: &BounceLanes,
-        i: usize,
-        weight: f32,
-        c: &mut Counters,
-    ) -> Spawned {
-        let refracted = (sp.m.t > 0.0 && b.refracts >> i & 1 != 0)
-            .then(|| Ray { o: lane(&b.refract_o, i), d: lane(&b.refract_d, i) });
-        self.choose_rays(
-            sp,
-            weight,
-            refracted,
-            || Ray { o: lane(&b.mirror_o, i), d: lane(&b.mirror_d, i) },
-            c,
-        )
-    }
+/// The rays of one kind of [`super::Spawned`] that a packet's hits spawn:
+/// the kind, its lanes and the share each carries.
+struct Bounce<'a> {
+    kind: usize,
+    lanes: Mask,
+    shares: &'a Lanes,
 }

@@ -26,7 +26,7 @@ pub(crate) use surface::PointLanes;
 use crate::geometry::Hit;
 use crate::math::{Ray, RayQuery};
 use crate::query::{AnyHit, Nearest, Query};
-use crate::simd::lanes::{lane, set_lane, Lanes, Mask, LANES};
+use crate::simd::lanes::{for_lanes, lane, set_lane, Lanes, Mask, LANES};
 use crate::simd::vector::{group_active, group_bits, F32s, Simd};
 
 /// "No primitive" in [`PacketHits::prim`].
@@ -90,6 +90,18 @@ impl RayPacket {
             p.t_max.0[i] = t_max;
             mask |= 1 << i;
         }
+        if mask != 0 {
+            ray_constants(crate::simd::isa(), &mut p, mask);
+        }
+        p
+    }
+
+    /// A packet of the rays with origins `o` and directions `d` in the
+    /// lanes of `mask` (where they are: the other lanes are left out),
+    /// from distance 0 on without end.
+    pub fn from_lanes(o: &[Lanes; 3], d: &[Lanes; 3], mask: Mask) -> RayPacket {
+        let mut p = RayPacket { o: *o, d: *d, ..RayPacket::empty() };
+        for_lanes(mask, |i| p.t_max.0[i] = f32::INFINITY);
         if mask != 0 {
             ray_constants(crate::simd::isa(), &mut p, mask);
         }
