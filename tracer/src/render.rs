@@ -9,6 +9,7 @@ use crate::filter::{Filter, FilterKind};
 pub use crate::integrator::ShadeSettings;
 use crate::integrator::{SampleId, ThreadState, Whitted};
 use crate::math::Ray;
+use crate::packet::camera::EyeLanes;
 use crate::prepare::RenderScene;
 use crate::sampling::{concentric_disk, Sampler, SamplerKind};
 use crate::shadow_cache::ShadowCache;
@@ -292,13 +293,21 @@ fn pixel<I: Intersector>(
     let mut ids = [SampleId { px, py, index: 0 }; LANES];
     let mut w = [0.0f32; LANES];
     let mut colors = [Vec3A::ZERO; LANES];
+    let mut eye = EyeLanes::default();
     for first in (0..sampler.spp).step_by(LANES) {
         let n = (sampler.spp - first).min(LANES as u32) as usize;
-        samples.rays(first, &mut rays[..n], &mut w[..n]);
         for (i, id) in ids[..n].iter_mut().enumerate() {
             id.index = first + i as u32;
         }
-        trace_eye(shader, settings, &rays[..n], &ids[..n], th, &mut colors);
+        if settings.packets && n > 1 {
+            // The packet's rays set up lane-wise from the samples' points.
+            samples.points(first, &mut eye, &mut w[..n]);
+            th.tracer.counters.eye += n as u64;
+            shader.li_eye_packet(&eye, &ids[..n], th, &mut colors);
+        } else {
+            samples.rays(first, &mut rays[..n], &mut w[..n]);
+            trace_eye(shader, settings, &rays[..n], &ids[..n], th, &mut colors);
+        }
         for i in 0..n {
             sum += w[i] * colors[i];
             weights += w[i];
@@ -357,14 +366,42 @@ impl<'a> PixelSamples<'a> {
         }
     }
 
+    /// Where [`PixelSamples::rays`]' rays are aimed, for
+    /// [`Whitted::li_eye_packet`]: samples `first..first + weights.len()`
+    /// (at most [`LANES`]) as raster and lens points in `eye`, lane by
+    /// lane, and their filter weights in `weights`.
+    #[inline]
+    pub(crate) fn points(&self, first: u32, eye: &mut EyeLanes, weights: &mut [f32]) {
+        let n = weights.len();
+        let (mut position, mut lens) = ([Vec2::ZERO; LANES], [Vec2::ZERO; LANES]);
+        self.sampler.samples_of(self.position, first, &mut position[..n]);
+        if let Some(p) = self.lens {
+            self.sampler.samples_of(p, first, &mut lens[..n]);
+        }
+        for (i, w) in weights.iter_mut().enumerate() {
+            let (raster, on_lens, weight) = self.point_from(position[i], lens[i]);
+            (eye.x.0[i], eye.y.0[i], eye.lens[0].0[i], eye.lens[1].0[i]) =
+                (raster.x, raster.y, on_lens.x, on_lens.y);
+            *w = weight;
+        }
+    }
+
     /// The eye ray and filter weight of a pixel sample `u` and a lens
     /// sample `l` (both in the unit square).
     #[inline(always)]
     fn ray_from(&self, u: Vec2, l: Vec2) -> ((Ray, f32), f32) {
+        let (raster, lens, weight) = self.point_from(u, l);
+        (self.camera.ray(raster.x, raster.y, lens), weight)
+    }
+
+    /// The raster point, the point on the unit lens disc and the filter
+    /// weight of a pixel sample `u` and a lens sample `l`.
+    #[inline(always)]
+    fn point_from(&self, u: Vec2, l: Vec2) -> (Vec2, Vec2, f32) {
         let (offset, weight) = self.filter.sample(u);
         let lens = if self.lens.is_some() { concentric_disk(l) } else { Vec2::ZERO };
         let (x, y) = (self.px as f32 + 0.5 + offset.x, self.py as f32 + 0.5 + offset.y);
-        (self.camera.ray(x, y, lens), weight)
+        (Vec2::new(x, y), lens, weight)
     }
 }
 

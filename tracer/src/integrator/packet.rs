@@ -11,11 +11,12 @@ use super::{tint, SampleId, ShadePoint, ThreadState, Whitted};
 use crate::accel::Intersector;
 use crate::math::Ray;
 use crate::packet::bounce::{bounces, BounceLanes};
+use crate::packet::camera::{eye_rays, EyeLanes};
 use crate::packet::prims::occludes;
 use crate::packet::shadow::{shadow_rays, LightLanes};
 use crate::packet::surface::surfaces;
 use crate::packet::{PacketHits, PointLanes, RayPacket, NO_PRIM};
-use crate::simd::lanes::{for_lanes, lane, set_lane, Lanes, Mask, LANES};
+use crate::simd::lanes::{first_lanes, for_lanes, lane, set_lane, Lanes, Mask, LANES};
 use glam::Vec3A;
 
 /// The shading records of a packet's lanes (`None`: no hit).
@@ -35,13 +36,45 @@ impl Whitted<'_> {
     ) {
         let packet = RayPacket::new(rays.iter().map(|&(ray, t_min, _)| (ray, t_min, f32::INFINITY)));
         let mut weights = Lanes::ZERO;
-        let mut lane_ids = [SampleId { px: 0, py: 0, index: 0 }; LANES];
-        for (i, (&(_, _, w), &id)) in rays.iter().zip(ids).enumerate().take(LANES) {
-            (weights.0[i], lane_ids[i]) = (w, id);
+        for (i, &(_, _, w)) in rays.iter().enumerate().take(LANES) {
+            weights.0[i] = w;
         }
+        self.li_first_lanes(&packet, &weights, depth, ids, th, out);
+    }
+
+    /// Radiance along the eye rays of samples `ids` (at most [`LANES`]),
+    /// aimed lane by lane as `eye` says and set up lane-wise
+    /// ([`eye_rays`]); lane `i`'s colour goes to `out[i]`. The colours are
+    /// [`Whitted::li_packet`]'s of the same rays.
+    pub(crate) fn li_eye_packet<I: Intersector>(
+        &self,
+        eye: &EyeLanes,
+        ids: &[SampleId],
+        th: &mut ThreadState<I>,
+        out: &mut [Vec3A],
+    ) {
+        let n = ids.len().min(LANES);
+        let mut packet = RayPacket::empty();
+        eye_rays(crate::simd::isa(), &self.scene.camera, eye, first_lanes(n), &mut packet);
+        self.li_first_lanes(&packet, &Lanes([1.0; LANES]), 1, ids, th, out);
+    }
+
+    /// [`Whitted::li_lanes`] of a packet whose lanes are the first
+    /// `ids.len()`, their colours into `out`.
+    fn li_first_lanes<I: Intersector>(
+        &self,
+        packet: &RayPacket,
+        weights: &Lanes,
+        depth: u32,
+        ids: &[SampleId],
+        th: &mut ThreadState<I>,
+        out: &mut [Vec3A],
+    ) {
+        let mut lane_ids = [SampleId { px: 0, py: 0, index: 0 }; LANES];
+        let n = ids.len().min(LANES).min(out.len());
+        lane_ids[..n].copy_from_slice(&ids[..n]);
         let mut colors = [Vec3A::ZERO; LANES];
-        self.li_lanes(&packet, &weights, depth, &lane_ids, th, &mut colors);
-        let n = out.len().min(rays.len());
+        self.li_lanes(packet, weights, depth, &lane_ids, th, &mut colors);
         out[..n].copy_from_slice(&colors[..n]);
     }
 

@@ -11,12 +11,14 @@
 //! - this file: the packet ([`RayPacket`], its per-ray constants by
 //!   [`RayConstants`]) and what a traversal keeps per lane ([`LaneHits`]:
 //!   the nearest hits, [`PacketHits`], or any hit's blocker, [`Blockers`]);
+//! - [`camera`]: a pixel's eye rays;
 //! - [`prims`]: the lane-wise sphere and triangle tests;
 //! - [`surface`]: the hits' points and normals ([`PointLanes`]);
 //! - [`shadow`]: the shadow rays of those points toward a light;
 //! - [`bounce`]: their mirror and refracted rays.
 
 pub(crate) mod bounce;
+pub(crate) mod camera;
 pub(crate) mod prims;
 pub(crate) mod shadow;
 pub(crate) mod surface;

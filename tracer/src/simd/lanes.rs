@@ -45,9 +45,27 @@ pub(crate) fn for_lanes(mut mask: Mask, mut f: impl FnMut(usize)) {
     }
 }
 
+/// The mask of lanes `0..n` (`n` at most [`LANES`]).
+#[inline(always)]
+pub(crate) fn first_lanes(n: usize) -> Mask {
+    if n >= LANES {
+        Mask::MAX >> (Mask::BITS as usize - LANES)
+    } else {
+        (1 << n) - 1
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn first_lanes_are_the_lowest() {
+        assert_eq!(first_lanes(0), 0);
+        assert_eq!(first_lanes(3), 0b111);
+        assert_eq!(first_lanes(LANES), (1 << LANES) - 1);
+        assert_eq!(first_lanes(LANES + 5), first_lanes(LANES));
+    }
 
     #[test]
     fn lanes_of_a_mask_lowest_first() {
