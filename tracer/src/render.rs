@@ -178,7 +178,7 @@ fn render_with<I: Intersector>(
         // (w+1) x (h+1) corner rays, each pixel the mean of its four corners.
         let grid = Raster { x0: 0, y0: 0, width: w + 1, height: h + 1 };
         let (corners, cost, counters) = run_tiles(&grid, accel, scene, settings, progress, |pts, th, out| {
-            eye_rays(&shader, settings, pts, th, out, |x, y| scene.camera.ray(x as f32, y as f32, Vec2::ZERO))
+            eye_rays(&shader, settings, pts, th, out, |x, y| Vec2::new(x as f32, y as f32))
         });
         let mut film = Film::new(w, h);
         for y in 0..h {
@@ -204,9 +204,7 @@ fn render_with<I: Intersector>(
                     }
                 }
             } else if centre {
-                eye_rays(&shader, settings, pts, th, out, |x, y| {
-                    scene.camera.ray(x as f32 + 0.5, y as f32 + 0.5, Vec2::ZERO)
-                });
+                eye_rays(&shader, settings, pts, th, out, |x, y| Vec2::new(x as f32 + 0.5, y as f32 + 0.5));
             } else {
                 for (&(x, y), o) in pts.iter().zip(out.iter_mut()) {
                     *o = pixel(&shader, &filter, settings, x, y, th);
@@ -245,7 +243,8 @@ pub(crate) fn trace_eye<I: Intersector>(
     }
 }
 
-/// One eye ray per point of `pts` (from `ray_at`), traced together.
+/// One eye ray per point of `pts`, through the raster position `raster`
+/// gives it (with the lens centre), traced together.
 #[inline]
 fn eye_rays<I: Intersector>(
     shader: &Whitted,
@@ -253,16 +252,30 @@ fn eye_rays<I: Intersector>(
     pts: &[(u32, u32)],
     th: &mut ThreadState<I>,
     out: &mut [Vec3A],
-    ray_at: impl Fn(u32, u32) -> (Ray, f32),
+    raster: impl Fn(u32, u32) -> Vec2,
 ) {
-    let mut rays = [(Ray { o: Vec3A::ZERO, d: Vec3A::Z }, 0.0, 1.0); LANES];
     let mut ids = [SampleId { px: 0, py: 0, index: 0 }; LANES];
     for (i, &(px, py)) in pts.iter().enumerate() {
-        let (ray, t_min) = ray_at(px, py);
-        rays[i] = (ray, t_min, 1.0);
         ids[i] = SampleId { px, py, index: 0 };
     }
     let n = pts.len();
+    if settings.packets && n > 1 {
+        // Set up lane-wise, as a pixel's samples are.
+        let mut eye = EyeLanes::default();
+        for (i, &(px, py)) in pts.iter().enumerate() {
+            let at = raster(px, py);
+            (eye.x.0[i], eye.y.0[i]) = (at.x, at.y);
+        }
+        th.tracer.counters.eye += n as u64;
+        shader.li_eye_packet(&eye, &ids[..n], th, out);
+        return;
+    }
+    let mut rays = [(Ray { o: Vec3A::ZERO, d: Vec3A::Z }, 0.0, 1.0); LANES];
+    for (r, &(px, py)) in rays.iter_mut().zip(pts) {
+        let at = raster(px, py);
+        let (ray, t_min) = shader.scene.camera.ray(at.x, at.y, Vec2::ZERO);
+        *r = (ray, t_min, 1.0);
+    }
     trace_eye(shader, settings, &rays[..n], &ids[..n], th, out);
 }
 
@@ -282,7 +295,7 @@ fn pixel<I: Intersector>(
     if settings.pixel_centre_only(camera) {
         let mut color = [Vec3A::ZERO];
         eye_rays(shader, settings, &[(px, py)], th, &mut color, |x, y| {
-            camera.ray(x as f32 + 0.5, y as f32 + 0.5, Vec2::ZERO)
+            Vec2::new(x as f32 + 0.5, y as f32 + 0.5)
         });
         return color[0];
     }
