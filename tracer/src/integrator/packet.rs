@@ -136,8 +136,8 @@ impl Whitted<'_> {
                 }
             });
             for kind in (0..3).filter(|&kind| spawned[kind] != 0) {
-                let bounce = Bounce { kind, lanes: spawned[kind], shares: &shares[kind] };
-                self.trace_spawned(&b, &bounce, &points, depth + 1, weights, ids, &mut color, th);
+                let of_kind = SpawnedLanes { kind, lanes: spawned[kind], shares: &shares[kind] };
+                self.trace_spawned(&b, &of_kind, &points, depth + 1, weights, ids, &mut color, th);
             }
         }
         for (i, sp) in points.iter().enumerate() {
@@ -221,15 +221,15 @@ impl Whitted<'_> {
         });
     }
 
-    /// Trace the rays of one kind that `bounce` spawns at `depth` from the
-    /// bounces `b`, as a packet of their parents' lanes when there are
+    /// Trace the rays of one kind, `of_kind`, at `depth` from the bounces
+    /// `b`, as a packet of their parents' lanes when there are
     /// several, adding `share × tint × radiance` to each lane's colour
     /// (`points` holding the lanes' materials, `parents` their weights).
     #[allow(clippy::too_many_arguments)]
     fn trace_spawned<I: Intersector>(
         &self,
         b: &BounceLanes,
-        bounce: &Bounce,
+        of_kind: &SpawnedLanes,
         points: &Points,
         depth: u32,
         parents: &Lanes,
@@ -237,7 +237,7 @@ impl Whitted<'_> {
         color: &mut [Vec3A; LANES],
         th: &mut ThreadState<I>,
     ) {
-        let Bounce { kind, lanes, shares } = *bounce;
+        let SpawnedLanes { kind, lanes, shares } = *of_kind;
         let (o, d) = if kind == 2 { (&b.refract_o, &b.refract_d) } else { (&b.mirror_o, &b.mirror_d) };
         let mut weights = Lanes::ZERO;
         for_lanes(lanes, |i| weights.0[i] = parents.0[i] * shares.0[i]);
@@ -259,7 +259,7 @@ impl Whitted<'_> {
 
 /// The rays of one kind of [`super::Spawned`] that a packet's hits spawn:
 /// the kind, its lanes and the share each carries.
-struct Bounce<'a> {
+struct SpawnedLanes<'a> {
     kind: usize,
     lanes: Mask,
     shares: &'a Lanes,
