@@ -19,13 +19,13 @@ use nffkit_formats::{Dialect, View};
 pub struct Camera {
     /// Eye position (lens centre).
     pub eye: Vec3A,
-    pub(crate) forward: Vec3A,
-    pub(crate) right: Vec3A,
-    pub(crate) up: Vec3A,
+    forward: Vec3A,
+    right: Vec3A,
+    up: Vec3A,
     /// Image plane size of one pixel at unit distance.
-    pub(crate) pixel: f32,
-    pub(crate) width: u32,
-    pub(crate) height: u32,
+    pixel: f32,
+    width: u32,
+    height: u32,
     /// Lens radius (0: pinhole).
     pub aperture: f32,
     /// Distance from the eye to the plane in focus.
@@ -82,7 +82,6 @@ impl Camera {
 
     /// The view's basis (forward, right, up) and the pixel's side on the
     /// image plane at distance 1.
-    #[cfg(feature = "gpu")]
     pub(crate) fn frame(&self) -> (Vec3A, Vec3A, Vec3A, f32) {
         (self.forward, self.right, self.up, self.pixel)
     }

@@ -10,7 +10,7 @@ use crate::accel::{with_accel, Intersector, Tracer};
 use crate::film::Film;
 use crate::filter::Filter;
 use crate::integrator::{SampleId, ThreadState, Whitted};
-use crate::math::Ray;
+use crate::packet::camera::EyeLanes;
 use crate::prepare::RenderScene;
 use crate::render::{resolve, trace_eye, PixelSamples, PixelWindow, RenderSettings};
 use crate::shadow_cache::ShadowCache;
@@ -76,7 +76,7 @@ impl Accumulator {
         let centre = settings.pixel_centre_only(camera);
         let index = self.samples;
         let win = self.window;
-        let mut rays = [(Ray { o: Vec3A::ZERO, d: Vec3A::Z }, 0.0, 1.0); LANES];
+        let mut eye = EyeLanes::default();
         let mut ids = [SampleId { px: 0, py: 0, index }; LANES];
         let mut w = [0.0f32; LANES];
         let mut colors = [Vec3A::ZERO; LANES];
@@ -85,15 +85,16 @@ impl Accumulator {
             let n = (self.sums.len() - first).min(LANES);
             for i in 0..n {
                 let (px, py) = (win.x0 + ((first + i) % width) as u32, win.y0 + ((first + i) / width) as u32);
-                let ((ray, t_min), weight) = if centre {
-                    (camera.ray(px as f32 + 0.5, py as f32 + 0.5, Vec2::ZERO), 1.0)
+                let (raster, lens, weight) = if centre {
+                    (Vec2::new(px as f32 + 0.5, py as f32 + 0.5), Vec2::ZERO, 1.0)
                 } else {
-                    PixelSamples::new(camera, sampler, &self.filter, px, py).ray(index)
+                    PixelSamples::new(camera, sampler, &self.filter, px, py).point(index)
                 };
-                (rays[i], w[i]) = ((ray, t_min, 1.0), weight);
-                ids[i] = SampleId { px, py, index };
+                (eye.x.0[i], eye.y.0[i], eye.lens[0].0[i], eye.lens[1].0[i]) =
+                    (raster.x, raster.y, lens.x, lens.y);
+                (w[i], ids[i]) = (weight, SampleId { px, py, index });
             }
-            trace_eye(&shader, settings, &rays[..n], &ids[..n], &mut th, &mut colors);
+            trace_eye(&shader, settings, &eye, &ids[..n], &mut th, &mut colors);
             for i in 0..n {
                 self.sums[first + i] += w[i] * colors[i];
                 self.weights[first + i] += w[i];

@@ -8,7 +8,6 @@ use crate::film::Film;
 use crate::filter::{Filter, FilterKind};
 pub use crate::integrator::ShadeSettings;
 use crate::integrator::{SampleId, ThreadState, Whitted};
-use crate::math::Ray;
 use crate::packet::camera::EyeLanes;
 use crate::prepare::RenderScene;
 use crate::sampling::{concentric_disk, Sampler, SamplerKind};
@@ -221,25 +220,27 @@ fn render_with<I: Intersector>(
     RenderOutput { seconds: t0.seconds(), ..out }
 }
 
-/// Radiance along up to [`LANES`] eye rays (`(ray, t_min, weight)` of
-/// sample `ids[i]`) into `out`: as one packet when packets are on, else one
-/// by one. The colours are the same either way.
+/// Radiance along up to [`LANES`] eye rays, aimed lane by lane as `eye`
+/// says, of samples `ids` into `out`: as one packet set up lane-wise when
+/// packets are on, else one by one. The colours are the same either way.
 #[inline]
 pub(crate) fn trace_eye<I: Intersector>(
     shader: &Whitted,
     settings: &RenderSettings,
-    rays: &[(Ray, f32, f32)],
+    eye: &EyeLanes,
     ids: &[SampleId],
     th: &mut ThreadState<I>,
     out: &mut [Vec3A],
 ) {
-    th.tracer.counters.eye += rays.len() as u64;
-    if settings.packets && rays.len() > 1 {
-        shader.li_packet(rays, 1, ids, th, out);
-    } else {
-        for ((&(ray, t_min, weight), &id), o) in rays.iter().zip(ids).zip(out) {
-            *o = shader.li(ray, t_min, 1, weight, id, th);
-        }
+    th.tracer.counters.eye += ids.len() as u64;
+    if settings.packets && ids.len() > 1 {
+        shader.li_eye_packet(eye, ids, th, out);
+        return;
+    }
+    for (i, (&id, o)) in ids.iter().zip(out).enumerate() {
+        let lens = Vec2::new(eye.lens[0].0[i], eye.lens[1].0[i]);
+        let (ray, t_min) = shader.scene.camera.ray(eye.x.0[i], eye.y.0[i], lens);
+        *o = shader.li(ray, t_min, 1, 1.0, id, th);
     }
 }
 
@@ -255,28 +256,13 @@ fn eye_rays<I: Intersector>(
     raster: impl Fn(u32, u32) -> Vec2,
 ) {
     let mut ids = [SampleId { px: 0, py: 0, index: 0 }; LANES];
+    let mut eye = EyeLanes::default();
     for (i, &(px, py)) in pts.iter().enumerate() {
         ids[i] = SampleId { px, py, index: 0 };
-    }
-    let n = pts.len();
-    if settings.packets && n > 1 {
-        // Set up lane-wise, as a pixel's samples are.
-        let mut eye = EyeLanes::default();
-        for (i, &(px, py)) in pts.iter().enumerate() {
-            let at = raster(px, py);
-            (eye.x.0[i], eye.y.0[i]) = (at.x, at.y);
-        }
-        th.tracer.counters.eye += n as u64;
-        shader.li_eye_packet(&eye, &ids[..n], th, out);
-        return;
-    }
-    let mut rays = [(Ray { o: Vec3A::ZERO, d: Vec3A::Z }, 0.0, 1.0); LANES];
-    for (r, &(px, py)) in rays.iter_mut().zip(pts) {
         let at = raster(px, py);
-        let (ray, t_min) = shader.scene.camera.ray(at.x, at.y, Vec2::ZERO);
-        *r = (ray, t_min, 1.0);
+        (eye.x.0[i], eye.y.0[i]) = (at.x, at.y);
     }
-    trace_eye(shader, settings, &rays[..n], &ids[..n], th, out);
+    trace_eye(shader, settings, &eye, &ids[..pts.len()], th, out);
 }
 
 /// One pixel: its samples through the filter, weighted by the filter's sign,
@@ -302,7 +288,6 @@ fn pixel<I: Intersector>(
     let samples = PixelSamples::new(camera, sampler, filter, px, py);
     let (mut sum, mut weights) = (Vec3A::ZERO, 0.0);
     // Up to LANES samples at a time; the sum is taken in sample order.
-    let mut rays = [(Ray { o: Vec3A::ZERO, d: Vec3A::Z }, 0.0, 1.0); LANES];
     let mut ids = [SampleId { px, py, index: 0 }; LANES];
     let mut w = [0.0f32; LANES];
     let mut colors = [Vec3A::ZERO; LANES];
@@ -312,15 +297,8 @@ fn pixel<I: Intersector>(
         for (i, id) in ids[..n].iter_mut().enumerate() {
             id.index = first + i as u32;
         }
-        if settings.packets && n > 1 {
-            // The packet's rays set up lane-wise from the samples' points.
-            samples.points(first, &mut eye, &mut w[..n]);
-            th.tracer.counters.eye += n as u64;
-            shader.li_eye_packet(&eye, &ids[..n], th, &mut colors);
-        } else {
-            samples.rays(first, &mut rays[..n], &mut w[..n]);
-            trace_eye(shader, settings, &rays[..n], &ids[..n], th, &mut colors);
-        }
+        samples.points(first, &mut eye, &mut w[..n]);
+        trace_eye(shader, settings, &eye, &ids[..n], th, &mut colors);
         for i in 0..n {
             sum += w[i] * colors[i];
             weights += w[i];
@@ -332,7 +310,6 @@ fn pixel<I: Intersector>(
 /// The eye rays of one pixel's samples: its patterns computed once (a
 /// pinhole camera ignores the lens sample).
 pub(crate) struct PixelSamples<'a> {
-    camera: &'a Camera,
     sampler: &'a Sampler,
     filter: &'a Filter,
     position: u32,
@@ -352,37 +329,21 @@ impl<'a> PixelSamples<'a> {
     ) -> Self {
         let position = sampler.pattern(px, py, 0);
         let lens = (camera.aperture > 0.0).then(|| sampler.pattern(px, py, 1));
-        PixelSamples { camera, sampler, filter, position, lens, px, py }
+        PixelSamples { sampler, filter, position, lens, px, py }
     }
 
-    /// Sample `index`'s eye ray (with its `t_min`) and filter weight.
+    /// Sample `index`'s raster point, point on the unit lens disc and
+    /// filter weight ([`PixelSamples::points`] of one sample).
     #[inline]
-    pub(crate) fn ray(&self, index: u32) -> ((Ray, f32), f32) {
+    pub(crate) fn point(&self, index: u32) -> (Vec2, Vec2, f32) {
         let lens = self.lens.map_or(Vec2::ZERO, |p| self.sampler.sample_of(p, index));
-        self.ray_from(self.sampler.sample_of(self.position, index), lens)
+        self.point_from(self.sampler.sample_of(self.position, index), lens)
     }
 
-    /// [`PixelSamples::ray`] of samples `first..first + rays.len()` (at
-    /// most [`LANES`]), their pattern samples made together: each eye ray
-    /// as `(ray, t_min, 1)` in `rays` and its filter weight in `weights`.
-    #[inline]
-    pub(crate) fn rays(&self, first: u32, rays: &mut [(Ray, f32, f32)], weights: &mut [f32]) {
-        let n = rays.len();
-        let (mut position, mut lens) = ([Vec2::ZERO; LANES], [Vec2::ZERO; LANES]);
-        self.sampler.samples_of(self.position, first, &mut position[..n]);
-        if let Some(p) = self.lens {
-            self.sampler.samples_of(p, first, &mut lens[..n]);
-        }
-        for (((r, w), &u), &l) in rays.iter_mut().zip(weights).zip(&position).zip(&lens) {
-            let ((ray, t_min), weight) = self.ray_from(u, l);
-            (*r, *w) = ((ray, t_min, 1.0), weight);
-        }
-    }
-
-    /// Where [`PixelSamples::rays`]' rays are aimed, for
-    /// [`Whitted::li_eye_packet`]: samples `first..first + weights.len()`
-    /// (at most [`LANES`]) as raster and lens points in `eye`, lane by
-    /// lane, and their filter weights in `weights`.
+    /// Where the eye rays of samples `first..first + weights.len()` (at
+    /// most [`LANES`]) are aimed, their patterns' samples made together:
+    /// raster and lens points in `eye`, lane by lane, and their filter
+    /// weights in `weights`.
     #[inline]
     pub(crate) fn points(&self, first: u32, eye: &mut EyeLanes, weights: &mut [f32]) {
         let n = weights.len();
@@ -397,14 +358,6 @@ impl<'a> PixelSamples<'a> {
                 (raster.x, raster.y, on_lens.x, on_lens.y);
             *w = weight;
         }
-    }
-
-    /// The eye ray and filter weight of a pixel sample `u` and a lens
-    /// sample `l` (both in the unit square).
-    #[inline(always)]
-    fn ray_from(&self, u: Vec2, l: Vec2) -> ((Ray, f32), f32) {
-        let (raster, lens, weight) = self.point_from(u, l);
-        (self.camera.ray(raster.x, raster.y, lens), weight)
     }
 
     /// The raster point, the point on the unit lens disc and the filter

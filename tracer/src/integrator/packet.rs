@@ -23,29 +23,10 @@ use glam::Vec3A;
 type Points<'s> = [Option<ShadePoint<'s>>; LANES];
 
 impl Whitted<'_> {
-    /// Radiance along rays traced as one packet (at most [`LANES`]):
-    /// `rays[i]` is `(ray, t_min, weight)` of sample `ids[i]` at path depth
-    /// `depth`; its colour goes to `out[i]`.
-    pub fn li_packet<I: Intersector>(
-        &self,
-        rays: &[(Ray, f32, f32)],
-        depth: u32,
-        ids: &[SampleId],
-        th: &mut ThreadState<I>,
-        out: &mut [Vec3A],
-    ) {
-        let packet = RayPacket::new(rays.iter().map(|&(ray, t_min, _)| (ray, t_min, f32::INFINITY)));
-        let mut weights = Lanes::ZERO;
-        for (i, &(_, _, w)) in rays.iter().enumerate().take(LANES) {
-            weights.0[i] = w;
-        }
-        self.li_first_lanes(&packet, &weights, depth, ids, th, out);
-    }
-
     /// Radiance along the eye rays of samples `ids` (at most [`LANES`]),
     /// aimed lane by lane as `eye` says and set up lane-wise
-    /// ([`eye_rays`]); lane `i`'s colour goes to `out[i]`. The colours are
-    /// [`Whitted::li_packet`]'s of the same rays.
+    /// ([`eye_rays`]); lane `i`'s colour goes to `out[i]`. Each colour is
+    /// what [`Whitted::li`] gives for the lane's ray.
     pub(crate) fn li_eye_packet<I: Intersector>(
         &self,
         eye: &EyeLanes,
@@ -53,34 +34,19 @@ impl Whitted<'_> {
         th: &mut ThreadState<I>,
         out: &mut [Vec3A],
     ) {
-        let n = ids.len().min(LANES);
+        let n = ids.len().min(LANES).min(out.len());
         let mut packet = RayPacket::empty();
         eye_rays(crate::simd::isa(), &self.scene.camera, eye, first_lanes(n), &mut packet);
-        self.li_first_lanes(&packet, &Lanes([1.0; LANES]), 1, ids, th, out);
-    }
-
-    /// [`Whitted::li_lanes`] of a packet whose lanes are the first
-    /// `ids.len()`, their colours into `out`.
-    fn li_first_lanes<I: Intersector>(
-        &self,
-        packet: &RayPacket,
-        weights: &Lanes,
-        depth: u32,
-        ids: &[SampleId],
-        th: &mut ThreadState<I>,
-        out: &mut [Vec3A],
-    ) {
         let mut lane_ids = [SampleId { px: 0, py: 0, index: 0 }; LANES];
-        let n = ids.len().min(LANES).min(out.len());
         lane_ids[..n].copy_from_slice(&ids[..n]);
         let mut colors = [Vec3A::ZERO; LANES];
-        self.li_lanes(packet, weights, depth, &lane_ids, th, &mut colors);
+        self.li_lanes(&packet, &Lanes([1.0; LANES]), 1, &lane_ids, th, &mut colors);
         out[..n].copy_from_slice(&colors[..n]);
     }
 
-    /// [`Whitted::li_packet`] of the active lanes of `packet`, wherever
-    /// they are: lane `i` carries `weights[i]` for sample `ids[i]`, and its
-    /// colour goes to `out[i]`.
+    /// Radiance along the rays of the active lanes of `packet`, wherever
+    /// they are, at path depth `depth`: lane `i` carries `weights[i]` for
+    /// sample `ids[i]`, and its colour goes to `out[i]`.
     fn li_lanes<I: Intersector>(
         &self,
         packet: &RayPacket,

@@ -38,10 +38,12 @@ crate::simd::dispatch! {
 
 #[inline(always)]
 fn eye_rays_body<V: F32s>(s: Simd<V>, camera: &Camera, at: &EyeLanes, mask: Mask, out: &mut RayPacket) {
-    let (eye, forward) = (splat3(s, camera.eye), splat3(s, camera.forward));
-    let (right, up) = (splat3(s, camera.right), splat3(s, camera.up));
-    let (half_w, half_h) = (s.splat(camera.width as f32 * 0.5), s.splat(camera.height as f32 * 0.5));
-    let (pixel, hither) = (s.splat(camera.pixel), s.splat(camera.hither));
+    let (forward, right, up, pixel) = camera.frame();
+    let (eye, forward) = (splat3(s, camera.eye), splat3(s, forward));
+    let (right, up) = (splat3(s, right), splat3(s, up));
+    let (width, height) = camera.resolution();
+    let (half_w, half_h) = (s.splat(width as f32 * 0.5), s.splat(height as f32 * 0.5));
+    let (pixel, hither) = (s.splat(pixel), s.splat(camera.hither));
     let mut constants = RayConstants::default();
     out.clear();
     for g in 0..LANES / V::W {
