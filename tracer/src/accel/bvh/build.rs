@@ -123,19 +123,12 @@ struct Boxes {
     centroids: Aabb,
 }
 
+/// `NB` bins per axis: each bin's box and primitive count, the boxes and
+/// the counts in arrays apart (a box is then 32 bytes, found by a shift).
 #[derive(Clone, Copy)]
-struct Bin {
-    bounds: Aabb,
-    count: u32,
-}
-
-impl Bin {
-    /// Count in `count` more primitives, their box `bounds`.
-    #[inline(always)]
-    fn add(&mut self, bounds: Aabb, count: u32) {
-        self.bounds = self.bounds.union(bounds);
-        self.count += count;
-    }
+struct Bins<const NB: usize> {
+    bounds: [[Aabb; NB]; 3],
+    counts: [[u32; NB]; 3],
 }
 
 /// A node of the binary SAH tree: its primitives `start..end` (positions
@@ -241,21 +234,21 @@ fn split_with<const NB: usize>(prims: &mut [BuildPrim], boxes: &Boxes) -> Option
         if extent[axis] <= 0.0 {
             continue;
         }
-        let bins = &all_bins[axis];
+        let (bounds, counts) = (&all_bins.bounds[axis], &all_bins.counts[axis]);
         // Sweep from the right to get right-side boxes and counts.
         let mut right_box = [Aabb::EMPTY; NB];
         let mut right_count = [0u32; NB];
         let (mut rb, mut rc) = (Aabb::EMPTY, 0);
         for i in (1..NB).rev() {
-            rb = rb.union(bins[i].bounds);
-            rc += bins[i].count;
+            rb = rb.union(bounds[i]);
+            rc += counts[i];
             right_box[i] = rb;
             right_count[i] = rc;
         }
         let (mut lb, mut lc) = (Aabb::EMPTY, 0);
         for i in 0..NB - 1 {
-            lb = lb.union(bins[i].bounds);
-            lc += bins[i].count;
+            lb = lb.union(bounds[i]);
+            lc += counts[i];
             if lc == 0 || right_count[i + 1] == 0 {
                 continue;
             }
@@ -280,8 +273,10 @@ fn split_with<const NB: usize>(prims: &mut [BuildPrim], boxes: &Boxes) -> Option
 }
 
 /// 2^23: adding it to a float in [0, 2^23) leaves the float's value,
-/// rounded to an integer, in the low bits of its representation.
+/// rounded to an integer, in the low bits of its representation (the
+/// representation of 2^23 itself has them all zero).
 const ROUNDER: f32 = 8_388_608.0;
+const _: () = assert!(ROUNDER.to_bits() & (BINS as u32 - 1) == 0 && BINS.is_power_of_two());
 
 /// Where a node's centroids fall into `NB` bins per axis: the low corner
 /// and the scale, shared by binning and partitioning so both use the same
@@ -294,18 +289,24 @@ fn bin_frame<const NB: usize>(cb: &Aabb) -> (Vec3A, Vec3A) {
 
 /// The bins of a centroid on all three axes: `(c - lo) * scale` rounded
 /// down (a tie at an exact bin edge may go either way; binning and
-/// partitioning both use [`rounded_bins`], so they always agree). Clamped
-/// in floating point and turned into integers by [`ROUNDER`]: a few vector
-/// instructions, not three saturating casts and clamps.
+/// partitioning both use [`rounded_bins`] and [`bin_of`], so they always
+/// agree). Clamped in floating point and turned into integers by
+/// [`ROUNDER`]: a few vector instructions, not three saturating casts and
+/// clamps.
 #[inline(always)]
 fn bin_indices<const NB: usize>(c: Vec3A, lo: Vec3A, scale: Vec3A) -> [usize; 3] {
-    let r = rounded_bins::<NB>(c, lo, scale).to_array();
-    // (`min` last: a NaN ends in the last bin, never out of range.)
-    r.map(|x| (x.to_bits().wrapping_sub(ROUNDER.to_bits()) as usize).min(NB - 1))
+    rounded_bins::<NB>(c, lo, scale).to_array().map(bin_of::<NB>)
+}
+
+/// The bin a [`rounded_bins`] lane names: its low bits (`NB` is a power of
+/// two). Whatever the lane holds, NaN included, the bin is in range.
+#[inline(always)]
+fn bin_of<const NB: usize>(rounded: f32) -> usize {
+    rounded.to_bits() as usize & (NB - 1)
 }
 
 /// [`ROUNDER`] plus the bins of a centroid on all three axes: whole numbers
-/// from 2^23 to 2^23 + NB − 1 (or NaN).
+/// from 2^23 to 2^23 + NB − 1 (or NaN, where `max` keeps a NaN).
 #[inline(always)]
 fn rounded_bins<const NB: usize>(c: Vec3A, lo: Vec3A, scale: Vec3A) -> Vec3A {
     let t = ((c - lo) * scale - Vec3A::splat(0.5)).max(Vec3A::ZERO).min(Vec3A::splat(NB as f32 - 1.0));
@@ -321,9 +322,9 @@ const SPLIT_BLOCK: usize = 1 << 13;
 /// Bin the primitives' centroids along all three axes in one pass, into
 /// `NB` bins per axis: `bins`, empty on entry, filled in place (returned,
 /// they would be copied, and the sweep's loads would wait on the copy).
-fn bin_all<const NB: usize>(prims: &[BuildPrim], cb: &Aabb, bins: &mut [[Bin; NB]; 3]) {
+fn bin_all<const NB: usize>(prims: &[BuildPrim], cb: &Aabb, bins: &mut Bins<NB>) {
     let (lo, scale) = bin_frame::<NB>(cb);
-    let fill = |chunk: &[BuildPrim], bins: &mut [[Bin; NB]; 3]| {
+    let fill = |chunk: &[BuildPrim], bins: &mut Bins<NB>| {
         for p in chunk {
             add_to_bins(bins, p, lo, scale);
         }
@@ -352,28 +353,31 @@ fn bin_all<const NB: usize>(prims: &[BuildPrim], cb: &Aabb, bins: &mut [[Bin; NB
 /// constant array with stores wider than the bins' loads, which then stall
 /// on store forwarding.
 #[inline(always)]
-fn empty_bins<const NB: usize>() -> [[Bin; NB]; 3] {
+fn empty_bins<const NB: usize>() -> Bins<NB> {
     let inf = std::hint::black_box(f32::INFINITY);
-    [[Bin { bounds: Aabb { min: Vec3A::splat(inf), max: Vec3A::splat(-inf) }, count: 0 }; NB]; 3]
+    Bins { bounds: [[Aabb { min: Vec3A::splat(inf), max: Vec3A::splat(-inf) }; NB]; 3], counts: [[0; NB]; 3] }
 }
 
 /// Count `p` in its bin on each axis.
 #[inline(always)]
-fn add_to_bins<const NB: usize>(bins: &mut [[Bin; NB]; 3], p: &BuildPrim, lo: Vec3A, scale: Vec3A) {
+fn add_to_bins<const NB: usize>(bins: &mut Bins<NB>, p: &BuildPrim, lo: Vec3A, scale: Vec3A) {
     let bounds = p.bounds();
     let index = bin_indices::<NB>(p.centroid(), lo, scale);
-    for (axis_bins, i) in bins.iter_mut().zip(index) {
-        axis_bins[i].add(bounds, 1);
+    for axis in 0..3 {
+        let b = &mut bins.bounds[axis][index[axis]];
+        *b = b.union(bounds);
+        bins.counts[axis][index[axis]] += 1;
     }
 }
 
 /// Add `more`'s primitives to `bins`.
 #[inline(always)]
-fn merge_bins<const NB: usize>(bins: &mut [[Bin; NB]; 3], more: &[[Bin; NB]; 3]) {
-    for (aa, ba) in bins.iter_mut().zip(more) {
-        for (x, y) in aa.iter_mut().zip(ba) {
-            x.add(y.bounds, y.count);
-        }
+fn merge_bins<const NB: usize>(bins: &mut Bins<NB>, more: &Bins<NB>) {
+    for (aa, ba) in bins.bounds.iter_mut().flatten().zip(more.bounds.iter().flatten()) {
+        *aa = aa.union(*ba);
+    }
+    for (aa, ba) in bins.counts.iter_mut().flatten().zip(more.counts.iter().flatten()) {
+        *aa += ba;
     }
 }
 
@@ -411,11 +415,10 @@ fn partition_on<const NB: usize, const AXIS: usize>(
     bin: usize,
 ) -> (usize, Aabb, Aabb) {
     let (lo, scale) = bin_frame::<NB>(cb);
-    let limit = bin as f32 + ROUNDER;
     if v.len() > PARALLEL_SPLIT {
-        return partition_in_blocks::<NB, AXIS>(v, lo, scale, limit);
+        return partition_in_blocks::<NB, AXIS>(v, lo, scale, bin);
     }
-    let mid = partition_block::<NB, AXIS>(v, lo, scale, limit);
+    let mid = partition_block::<NB, AXIS>(v, lo, scale, bin);
     (mid, centroid_bounds(&v[..mid]), centroid_bounds(&v[mid..]))
 }
 
@@ -427,10 +430,10 @@ fn partition_in_blocks<const NB: usize, const AXIS: usize>(
     v: &mut [BuildPrim],
     lo: Vec3A,
     scale: Vec3A,
-    limit: f32,
+    bin: usize,
 ) -> (usize, Aabb, Aabb) {
     let lefts: Vec<usize> =
-        v.par_chunks_mut(SPLIT_BLOCK).map(|b| partition_block::<NB, AXIS>(b, lo, scale, limit)).collect();
+        v.par_chunks_mut(SPLIT_BLOCK).map(|b| partition_block::<NB, AXIS>(b, lo, scale, bin)).collect();
     let (n, mid) = (v.len(), lefts.iter().sum());
     let block_start = |k: usize| k * SPLIT_BLOCK;
     let wrong_right = lefts.iter().enumerate().flat_map(|(k, &l)| {
@@ -449,8 +452,7 @@ fn partition_in_blocks<const NB: usize, const AXIS: usize>(
 }
 
 /// Partition `v` in place, the primitives whose centroid's bin on `AXIS`
-/// (as [`rounded_bins`] gives it, with [`ROUNDER`]) is at most `limit`
-/// first; their number. Branch-free (every element is swapped, the count
+/// (as [`bin_indices`] gives it) is at most `bin` first; their number. Branch-free (every element is swapped, the count
 /// advances by the comparison): the comparison is a coin toss for a good
 /// split, which a branch would mispredict half the time.
 #[inline(always)]
@@ -458,11 +460,11 @@ fn partition_block<const NB: usize, const AXIS: usize>(
     v: &mut [BuildPrim],
     lo: Vec3A,
     scale: Vec3A,
-    limit: f32,
+    bin: usize,
 ) -> usize {
     let mut i = 0;
     for j in 0..v.len() {
-        let go = rounded_bins::<NB>(v[j].centroid(), lo, scale)[AXIS] <= limit;
+        let go = bin_of::<NB>(rounded_bins::<NB>(v[j].centroid(), lo, scale)[AXIS]) <= bin;
         v.swap(i, j);
         i += usize::from(go);
     }
@@ -558,9 +560,9 @@ mod tests {
             let mut bins = empty_bins::<16>();
             bin_all::<16>(&prims, &boxes.centroids, &mut bins);
             let (lo, scale) = bin_frame::<16>(&boxes.centroids);
-            for (axis, axis_bins) in bins.iter().enumerate() {
+            for (axis, counts) in bins.counts.iter().enumerate() {
                 for bin in 0..16 {
-                    let expect: u32 = axis_bins[..=bin].iter().map(|b| b.count).sum();
+                    let expect: u32 = counts[..=bin].iter().sum();
                     let mut v = prims.clone();
                     let (mid, left, right) = partition::<16>(&mut v, &boxes.centroids, axis, bin);
                     assert_eq!(mid as u32, expect, "axis {axis}, bin {bin}");
