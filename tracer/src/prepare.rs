@@ -310,14 +310,18 @@ fn triangles_of(vertices: &[DVec3]) -> Vec<[u32; 3]> {
 pub(crate) fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_sided: bool) -> Geometry {
     let mut g = Geometry::default();
     // Sized up front, so that a large scene's arrays are not copied as they
-    // grow.
-    let (spheres, triangles) = scene.primitives.iter().fold((0, 0), |(s, t), p| match &p.shape {
-        Shape::Sphere { .. } => (s + 1, t),
-        Shape::Polygon { vertices } => (s, t + vertices.len().saturating_sub(2)),
-        Shape::Patch(p) => (s, t + p.vertices.len().saturating_sub(2)),
-        Shape::Box { .. } => (s, t + 12),
-        _ => (s, t),
-    });
+    // grow (counted on all cores: a pass over every primitive).
+    let (spheres, triangles) = scene
+        .primitives
+        .par_iter()
+        .map(|p| match &p.shape {
+            Shape::Sphere { .. } => (1, 0),
+            Shape::Polygon { vertices } => (0, vertices.len().saturating_sub(2)),
+            Shape::Patch(p) => (0, p.vertices.len().saturating_sub(2)),
+            Shape::Box { .. } => (0, 12),
+            _ => (0, 0),
+        })
+        .reduce(|| (0, 0), |(s0, t0), (s1, t1)| (s0 + s1, t0 + t1));
     g.spheres.reserve_exact(spheres);
     g.triangles.reserve(triangles);
     // Per-primitive data per kind, joined in id order at the end.
