@@ -277,7 +277,6 @@ fn split_with<const NB: usize>(prims: &mut [BuildPrim], boxes: &Boxes) -> Option
 /// rounded to an integer, in the low bits of its representation (the
 /// representation of 2^23 itself has them all zero).
 const ROUNDER: f32 = 8_388_608.0;
-const _: () = assert!(ROUNDER.to_bits() & (BINS as u32 - 1) == 0 && BINS.is_power_of_two());
 
 /// Where a node's centroids fall into `NB` bins per axis: the low corner
 /// and the scale, shared by binning and partitioning so both use the same
@@ -303,6 +302,7 @@ fn bin_indices<const NB: usize>(c: Vec3A, lo: Vec3A, scale: Vec3A) -> [usize; 3]
 /// two). Whatever the lane holds, NaN included, the bin is in range.
 #[inline(always)]
 fn bin_of<const NB: usize>(rounded: f32) -> usize {
+    const { assert!(NB.is_power_of_two() && ROUNDER.to_bits() as usize & (NB - 1) == 0) };
     rounded.to_bits() as usize & (NB - 1)
 }
 
@@ -478,9 +478,10 @@ fn partition_in_blocks<const NB: usize, const AXIS: usize>(
 }
 
 /// Partition `v` in place, the primitives whose centroid's bin on `AXIS`
-/// (as [`bin_indices`] gives it) is at most `bin` first; their number. Branch-free (every element is swapped, the count
-/// advances by the comparison): the comparison is a coin toss for a good
-/// split, which a branch would mispredict half the time.
+/// (as [`bin_indices`] gives it) is at most `bin` first; their number.
+/// Branch-free (every element is swapped, the count advances by the
+/// comparison): the comparison is a coin toss for a good split, which a
+/// branch would mispredict half the time.
 #[inline(always)]
 fn partition_block<const NB: usize, const AXIS: usize>(
     v: &mut [BuildPrim],
