@@ -79,8 +79,9 @@ impl Whitted<'_> {
             points[i] = Some(ShadePoint { p, ng, ns, d, entering: entering >> i & 1 != 0, m });
         });
         let mut shadow = RayPacket::empty();
+        let shaded = hit & packet.active;
         for k in 0..scene.lights.len() {
-            self.light_packet(k, depth, &points, &at, ids, &mut color, &mut shadow, th);
+            self.light_packet(k, depth, &points, shaded, &at, ids, &mut color, &mut shadow, th);
         }
         // Spawned rays, each kind one packet whose lanes are their parents'
         // lanes, their geometry taken as the bounce kernel left it.
@@ -137,14 +138,15 @@ impl Whitted<'_> {
 
     /// Add light `k` to the lanes of `points` whose shadow rays, set up
     /// lane-wise and traced as one packet (in `shadow`) after the shadow
-    /// cache had its say, are clear. `at` holds the points' positions and
-    /// normals.
+    /// cache had its say, are clear. `valid` holds the lanes that have a
+    /// point, `at` the points' positions and normals.
     #[allow(clippy::too_many_arguments)]
     fn light_packet<I: Intersector>(
         &self,
         k: usize,
         depth: u32,
         points: &Points,
+        valid: Mask,
         at: &PointLanes,
         ids: &[SampleId],
         color: &mut [Vec3A; LANES],
@@ -156,13 +158,12 @@ impl Whitted<'_> {
         // single-lane stores).
         let fixed = self.fixed_light_position(k);
         let mut pos = fixed.map_or([Lanes::ZERO; 3], |at| [0, 1, 2].map(|a| Lanes([at[a]; LANES])));
-        let mut valid = 0;
-        for (i, sp) in points.iter().enumerate() {
-            let Some(sp) = sp else { continue };
-            if fixed.is_none() {
-                set_lane(&mut pos, i, self.light_position(k, sp.p, depth, ids[i]));
+        if fixed.is_none() {
+            for (i, sp) in points.iter().enumerate() {
+                if let Some(sp) = sp {
+                    set_lane(&mut pos, i, self.light_position(k, sp.p, depth, ids[i]));
+                }
             }
-            valid |= 1 << i;
         }
         let mut dirs = LightLanes::default();
         let lanes = shadow_rays(crate::simd::isa(), at, &pos, valid, shadow, &mut dirs);
