@@ -389,10 +389,10 @@ fn empty_bins<const NB: usize>() -> Bins<NB> {
 fn add_to_bins<const NB: usize>(bins: &mut Bins<NB>, p: &BuildPrim, lo: Vec3A, scale: Vec3A) {
     let bounds = p.bounds();
     let index = bin_indices::<NB>(p.centroid(), lo, scale);
-    for axis in 0..3 {
-        let b = &mut bins.bounds[axis][index[axis]];
+    for (axis, i) in index.into_iter().enumerate() {
+        let b = &mut bins.bounds[axis][i];
         *b = b.union(bounds);
-        bins.counts[axis][index[axis]] += 1;
+        bins.counts[axis][i] += 1;
     }
 }
 
