@@ -90,8 +90,7 @@ impl Accumulator {
                 } else {
                     PixelSamples::new(camera, sampler, &self.filter, px, py).point(index)
                 };
-                (eye.x.0[i], eye.y.0[i], eye.lens[0].0[i], eye.lens[1].0[i]) =
-                    (raster.x, raster.y, lens.x, lens.y);
+                eye.set(i, raster, lens);
                 (w[i], ids[i]) = (weight, SampleId { px, py, index });
             }
             trace_eye(&shader, settings, &eye, &ids[..n], &mut th, &mut colors);

@@ -238,8 +238,7 @@ pub(crate) fn trace_eye<I: Intersector>(
         return;
     }
     for (i, (&id, o)) in ids.iter().zip(out).enumerate() {
-        let lens = Vec2::new(eye.lens[0].0[i], eye.lens[1].0[i]);
-        let (ray, t_min) = shader.scene.camera.ray(eye.x.0[i], eye.y.0[i], lens);
+        let (ray, t_min) = eye.ray(i, &shader.scene.camera);
         *o = shader.li(ray, t_min, 1, 1.0, id, th);
     }
 }
@@ -259,8 +258,7 @@ fn eye_rays<I: Intersector>(
     let mut eye = EyeLanes::default();
     for (i, &(px, py)) in pts.iter().enumerate() {
         ids[i] = SampleId { px, py, index: 0 };
-        let at = raster(px, py);
-        (eye.x.0[i], eye.y.0[i]) = (at.x, at.y);
+        eye.set(i, raster(px, py), Vec2::ZERO);
     }
     trace_eye(shader, settings, &eye, &ids[..pts.len()], th, out);
 }
@@ -354,8 +352,7 @@ impl<'a> PixelSamples<'a> {
         }
         for (i, w) in weights.iter_mut().enumerate() {
             let (raster, on_lens, weight) = self.point_from(position[i], lens[i]);
-            (eye.x.0[i], eye.y.0[i], eye.lens[0].0[i], eye.lens[1].0[i]) =
-                (raster.x, raster.y, on_lens.x, on_lens.y);
+            eye.set(i, raster, on_lens);
             *w = weight;
         }
     }

@@ -5,10 +5,11 @@
 
 use super::{RayConstants, RayPacket};
 use crate::camera::Camera;
+use crate::math::Ray;
 use crate::simd::lanes::{Lanes, Mask, LANES};
 use crate::simd::vec3::{add3, dot, normalize, scale3, store3, sub3};
 use crate::simd::vector::{group_active, F32s, Simd};
-use glam::Vec3A;
+use glam::{Vec2, Vec3A};
 
 /// Where each lane's eye ray is aimed: its raster position (`x`, `y`, as
 /// [`Camera::ray`] takes them) and its point on the unit lens disc
@@ -24,6 +25,22 @@ pub(crate) struct EyeLanes {
 impl Default for EyeLanes {
     fn default() -> Self {
         EyeLanes { x: Lanes::ZERO, y: Lanes::ZERO, lens: [Lanes::ZERO; 2] }
+    }
+}
+
+impl EyeLanes {
+    /// Aim lane `i` at raster point `raster` through `lens`.
+    #[inline]
+    pub fn set(&mut self, i: usize, raster: Vec2, lens: Vec2) {
+        (self.x.0[i], self.y.0[i], self.lens[0].0[i], self.lens[1].0[i]) =
+            (raster.x, raster.y, lens.x, lens.y);
+    }
+
+    /// Lane `i`'s eye ray and its hither distance, ray by ray
+    /// ([`Camera::ray`], which [`eye_rays`] repeats lane-wise).
+    #[inline]
+    pub fn ray(&self, i: usize, camera: &Camera) -> (Ray, f32) {
+        camera.ray(self.x.0[i], self.y.0[i], Vec2::new(self.lens[0].0[i], self.lens[1].0[i]))
     }
 }
 
@@ -85,7 +102,7 @@ mod tests {
     use super::*;
     use crate::simd::lanes::lane;
     use crate::simd::Isa;
-    use glam::{DVec3, Vec2};
+    use glam::DVec3;
     use nffkit_formats::View;
     use proptest::prelude::*;
 
@@ -117,8 +134,7 @@ mod tests {
             let camera = Camera::new(&view, w, h).with_lens(aperture, None);
             let mut eye = EyeLanes::default();
             for (i, p) in points.iter().enumerate() {
-                (eye.x.0[i], eye.y.0[i]) = (p[0] * w as f32, p[1] * h as f32);
-                (eye.lens[0].0[i], eye.lens[1].0[i]) = (p[2] * 2.0 - 1.0, p[3] * 2.0 - 1.0);
+                eye.set(i, Vec2::new(p[0] * w as f32, p[1] * h as f32), Vec2::new(p[2] * 2.0 - 1.0, p[3] * 2.0 - 1.0));
             }
             let mask = u32::from(mask) | 1;
             for isa in Isa::available() {
@@ -126,8 +142,7 @@ mod tests {
                 eye_rays(isa, &camera, &eye, mask, &mut packet);
                 prop_assert_eq!(packet.active, mask);
                 for i in (0..LANES).filter(|i| mask >> i & 1 != 0) {
-                    let lens = Vec2::new(eye.lens[0].0[i], eye.lens[1].0[i]);
-                    let (ray, t_min) = camera.ray(eye.x.0[i], eye.y.0[i], lens);
+                    let (ray, t_min) = camera.ray(eye.x.0[i], eye.y.0[i], Vec2::new(eye.lens[0].0[i], eye.lens[1].0[i]));
                     let want = crate::math::RayQuery::new(ray, t_min);
                     let got = packet.query(i);
                     let bits = |v: Vec3A| v.to_array().map(f32::to_bits);
