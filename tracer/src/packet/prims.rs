@@ -205,7 +205,9 @@ fn triangle_lanes<V: F32s>(
             Cull::Front => !V::bits(zero.lt(det)),
         };
         let nonzero = !V::bits(det.eq(zero));
-        let within = !V::bits(V::and(any_neg, any_pos)) & nonzero & facing & !V::bits(edge);
+        // (The group's own lanes only: the negations set the bits above.)
+        let group = (1 << V::W) - 1;
+        let within = !V::bits(V::and(any_neg, any_pos)) & nonzero & facing & !V::bits(edge) & group;
         if (within << (g * V::W)) & mask == 0 {
             // No lane of the group inside the edges: its distance and
             // barycentrics (two divisions) are not needed.
@@ -218,7 +220,6 @@ fn triangle_lanes<V: F32s>(
         v.mul(inv).store(&mut out.u, g);
         w.mul(inv).store(&mut out.v, g);
         let mut bits = V::bits(inside) & within;
-        bits &= (1 << V::W) - 1;
         if bits != 0 {
             // [`crate::math::triangle_t_error`], lane-wise: t beyond its
             // rounding error. (Only for groups with a candidate hit.)
