@@ -295,6 +295,13 @@ pub(crate) trait LaneHits {
     fn best(&self, i: usize) -> Option<Hit>;
     /// Take `h`, found below the lane's limit, as lane `i`'s hit.
     fn take(&mut self, i: usize, h: Hit);
+    /// Take primitive `id`'s hits at `t` (barycentrics `u`, `v`), found
+    /// below their limits in the lanes of `found`: what [`LaneHits::take`]
+    /// does lane by lane.
+    #[inline(always)]
+    fn take_lanes<V: F32s>(&mut self, _: Simd<V>, found: Mask, id: u32, t: &Lanes, u: &Lanes, v: &Lanes) {
+        for_lanes(found, |i| self.take(i, Hit { t: t.0[i], prim: id, u: u.0[i], v: v.0[i] }));
+    }
 }
 
 /// The nearest hit of each lane so far: `t` starts at the lane's `t_max`
@@ -356,6 +363,40 @@ impl LaneHits for PacketHits {
     #[inline(always)]
     fn best(&self, i: usize) -> Option<Hit> {
         self.get(i)
+    }
+
+    /// [`LaneHits::take`] with vectors: the kept values are blended into
+    /// the lanes a vector at a time, so that the traversal's next vector
+    /// loads of the distances and limits are served by these stores (lane
+    /// by lane stores make a vector load that spans them wait for them to
+    /// reach the cache).
+    #[inline(always)]
+    fn take_lanes<V: F32s>(&mut self, s: Simd<V>, found: Mask, id: u32, t: &Lanes, u: &Lanes, v: &Lanes) {
+        for g in 0..LANES / V::W {
+            let bits = found >> (g * V::W) & ((1 << V::W) - 1);
+            if bits == 0 {
+                continue;
+            }
+            let (new, best) = (s.load(&t.0, g), s.load(&self.t.0, g));
+            // A hit found below the limit is at most the best distance
+            // (the limit is one ulp above it): it beats the best when it is
+            // nearer, or as near with a lower id (`Hit::beats`).
+            let mut keep = V::bits(new.lt(best)) & bits;
+            for_lanes(V::bits(new.eq(best)) & bits, |j| {
+                keep |= u32::from(id < self.prim[g * V::W + j]) << j;
+            });
+            if keep == 0 {
+                continue;
+            }
+            let lanes = keep << (g * V::W);
+            let m = V::from_bits(keep);
+            V::select(m, new, best).store(&mut self.t.0, g);
+            let limit = new.add_i32(s.splat(f32::from_bits(1)));
+            V::select(m, limit, s.load(&self.limit.0, g)).store(&mut self.limit.0, g);
+            V::select(m, s.load(&u.0, g), s.load(&self.u.0, g)).store(&mut self.u.0, g);
+            V::select(m, s.load(&v.0, g), s.load(&self.v.0, g)).store(&mut self.v.0, g);
+            for_lanes(lanes, |i| self.prim[i] = id);
+        }
     }
 
     /// Keep `h` if it beats the lane's hit ([`Hit::beats`]).
@@ -450,7 +491,57 @@ mod tests {
         assert_eq!(k.shared(0), None);
     }
 
+    crate::simd::dispatch! {
+        /// [`LaneHits::take_lanes`] of [`PacketHits`] with `isa`'s vectors.
+        fn take_lanes_with(isa: Isa, hits: &mut PacketHits, found: Mask, id: u32, t: &Lanes, u: &Lanes, v: &Lanes) {
+            |s| hits.take_lanes(s, found, id, t, u, v)
+        }
+    }
+
     proptest! {
+        /// Hits taken a vector at a time are those taken lane by lane: a
+        /// nearer one replaces a lane's hit, an equally near one only from a
+        /// lower id, and lanes outside `found` keep theirs whatever their
+        /// distances say.
+        #[test]
+        fn hits_taken_a_vector_at_a_time_are_those_taken_lane_by_lane(
+            start in prop::collection::vec((any::<bool>(), 0usize..4, 0u32..6), LANES),
+            new in prop::collection::vec((0usize..5, any::<f32>(), any::<f32>()), LANES),
+            found in any::<u16>(),
+            id in 0u32..6,
+        ) {
+            // Few distances, so that ties are common.
+            let ts = [0.5f32, 1.0, 2.0, 3.0, 4.0];
+            let p = RayPacket::new((0..LANES).map(|_| (Ray::new(Vec3A::ZERO, Vec3A::Z), 0.0, 10.0)));
+            let mut base = PacketHits::new(&p);
+            for (i, &(has, k, prim)) in start.iter().enumerate() {
+                if has {
+                    base.take(i, Hit { t: ts[k], prim, u: 0.25, v: 0.5 });
+                }
+            }
+            let (mut t, mut u, mut v) = (Lanes::ZERO, Lanes::ZERO, Lanes::ZERO);
+            let mut found = u32::from(found);
+            for (i, &(k, ui, vi)) in new.iter().enumerate() {
+                (t.0[i], u.0[i], v.0[i]) = (ts[k], ui, vi);
+                // The kernels report only roots below the lane's limit.
+                if ts[k] >= base.limit.0[i] {
+                    found &= !(1 << i);
+                }
+            }
+            let mut want = base.clone();
+            for_lanes(found, |i| want.take(i, Hit { t: t.0[i], prim: id, u: u.0[i], v: v.0[i] }));
+            let bits = |l: &Lanes| l.0.map(f32::to_bits);
+            for isa in crate::simd::Isa::available() {
+                let mut got = base.clone();
+                take_lanes_with(isa, &mut got, found, id, &t, &u, &v);
+                prop_assert_eq!(got.prim, want.prim, "{}", isa);
+                prop_assert_eq!(bits(&got.t), bits(&want.t), "{}", isa);
+                prop_assert_eq!(bits(&got.limit), bits(&want.limit), "{}", isa);
+                prop_assert_eq!(bits(&got.u), bits(&want.u), "{}", isa);
+                prop_assert_eq!(bits(&got.v), bits(&want.v), "{}", isa);
+            }
+        }
+
         #[test]
         fn packets_built_from_rays_hold_the_queries_of_the_rays(
             rays in prop::collection::vec((prop::array::uniform3(-5.0f32..5.0), prop::array::uniform3(-1.0f32..1.0), 0.0f32..1.0), 1..=LANES),

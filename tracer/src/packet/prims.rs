@@ -8,9 +8,9 @@
 //! back to it.
 
 use super::{Blockers, LaneHits, RayPacket};
-use crate::geometry::{Cull, Geometry, Hit, Kind, Sphere, Triangle};
+use crate::geometry::{Cull, Geometry, Kind, Sphere, Triangle};
 use crate::math::gamma;
-use crate::simd::lanes::{for_lanes, Mask, LANES};
+use crate::simd::lanes::{for_lanes, Lanes, Mask, LANES};
 use crate::simd::vector::{group_active, group_bits, F32s, Simd};
 use crate::stats::Counters;
 
@@ -34,16 +34,16 @@ pub(crate) fn test_prim<V: F32s, H: LaneHits>(
     let cull = if geom.any_cull { geom.info[id as usize].cull } else { Cull::None };
     match kind {
         Kind::Sphere => {
-            let mut t = [0.0f32; LANES];
-            let found = mask & sphere_lanes(s, &geom.spheres[index], p, mask, hits.limit(p), cull, &mut t);
-            for_lanes(found, |i| hits.take(i, Hit { t: t[i], prim: id, u: 0.0, v: 0.0 }));
+            let mut t = Lanes::ZERO;
+            let found = mask & sphere_lanes(s, &geom.spheres[index], p, mask, hits.limit(p), cull, &mut t.0);
+            hits.take_lanes(s, found, id, &t, &Lanes::ZERO, &Lanes::ZERO);
             found
         }
         Kind::Triangle if p.shared_k.is_some() => {
             let mut out = TriangleLanes::default();
             triangle_lanes(s, &geom.triangles[index], p, mask, hits.limit(p), cull, &mut out);
             let found = mask & out.found;
-            for_lanes(found, |i| hits.take(i, Hit { t: out.t[i], prim: id, u: out.u[i], v: out.v[i] }));
+            hits.take_lanes(s, found, id, &out.t, &out.u, &out.v);
             found | by_ray(geom, id, p, mask & out.slow, hits)
         }
         _ => by_ray(geom, id, p, mask, hits),
@@ -151,9 +151,9 @@ struct TriangleLanes {
     /// Lanes on an edge in single precision, which need the single-ray
     /// test's double-precision path.
     slow: Mask,
-    t: [f32; LANES],
-    u: [f32; LANES],
-    v: [f32; LANES],
+    t: Lanes,
+    u: Lanes,
+    v: Lanes,
 }
 
 /// [`crate::geometry::intersect_triangle`] on every lane, for a packet whose
@@ -216,9 +216,9 @@ fn triangle_lanes<V: F32s>(
         let t = u.mul(sz.mul(a_z)).add(v.mul(sz.mul(b_z))).add(w.mul(sz.mul(c_z))).div(det);
         let inside = V::and(s.load(&p.t_min.0, g).lt(t), t.lt(s.load(limit, g)));
         let inv = s.splat(1.0).div(det);
-        t.store(&mut out.t, g);
-        v.mul(inv).store(&mut out.u, g);
-        w.mul(inv).store(&mut out.v, g);
+        t.store(&mut out.t.0, g);
+        v.mul(inv).store(&mut out.u.0, g);
+        w.mul(inv).store(&mut out.v.0, g);
         let mut bits = V::bits(inside) & within;
         if bits != 0 {
             // [`crate::math::triangle_t_error`], lane-wise: t beyond its

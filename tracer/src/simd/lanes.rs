@@ -21,6 +21,12 @@ impl Lanes {
     pub const ZERO: Lanes = Lanes([0.0; LANES]);
 }
 
+impl Default for Lanes {
+    fn default() -> Self {
+        Lanes::ZERO
+    }
+}
+
 /// Lane `i` of three per-axis lane arrays, as a vector.
 #[inline(always)]
 pub(crate) fn lane(v: &[Lanes; 3], i: usize) -> Vec3A {

@@ -121,6 +121,8 @@ pub(crate) unsafe trait F32s: Copy {
     fn select(m: Self::M, a: Self, b: Self) -> Self;
     /// One bit per lane, lane 0 lowest.
     fn bits(m: Self::M) -> u32;
+    /// The mask whose [`F32s::bits`] are the low [`F32s::W`] bits of `bits`.
+    fn from_bits(bits: u32) -> Self::M;
     /// The smallest lane (`min` in any order: exact when no lane is NaN).
     fn hmin(self) -> f32;
     /// [`F32s::hmin`] of four vectors at once: their lanes transposed
@@ -280,6 +282,10 @@ unsafe impl F32s for Scalar4 {
         m.iter().enumerate().fold(0, |acc, (i, &b)| acc | (u32::from(b) << i))
     }
     #[inline(always)]
+    fn from_bits(bits: u32) -> [bool; 4] {
+        std::array::from_fn(|i| bits >> i & 1 != 0)
+    }
+    #[inline(always)]
     fn hmin(self) -> f32 {
         let [a, b, c, d] = self.0;
         let (x, y) = (if a < b { a } else { b }, if c < d { c } else { d });
@@ -333,7 +339,8 @@ mod x86 {
         ($name:ident, $v:ty, $w:expr, $set1:ident, $loadu:ident, $storeu:ident, $add:ident, $sub:ident,
          $mul:ident, $div:ident, $min:ident, $max:ident, $sqrt:ident, $and:ident, $or:ident, $andnot:ident,
          $xor:ident, $movemask:ident, $blend:expr, $lt:expr, $le:expr, $eq:expr,
-         $cvtt:ident, $addi:ident, $subi:ident, $tosi:ident, $tops:ident, $hmin:expr, $hmin4:expr) => {
+         $cvtt:ident, $addi:ident, $subi:ident, $tosi:ident, $tops:ident, $hmin:expr, $hmin4:expr,
+         $from_bits:expr) => {
             /// See the module doc.
             #[derive(Clone, Copy)]
             pub(crate) struct $name($v);
@@ -427,6 +434,10 @@ mod x86 {
                 #[inline(always)]
                 fn bits(m: $v) -> u32 {
                     unsafe { $movemask(m) as u32 }
+                }
+                #[inline(always)]
+                fn from_bits(bits: u32) -> $v {
+                    unsafe { $from_bits(bits as i32) }
                 }
                 #[inline(always)]
                 fn hmin(self) -> f32 {
@@ -530,7 +541,11 @@ mod x86 {
         _mm_castps_si128,
         _mm_castsi128_ps,
         sse_hmin,
-        sse_hmin4
+        sse_hmin4,
+        |b| {
+            let lanes = _mm_setr_epi32(1, 2, 4, 8);
+            _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(b), lanes), lanes))
+        }
     );
 
     sse_like!(
@@ -562,7 +577,11 @@ mod x86 {
         _mm256_castps_si256,
         _mm256_castsi256_ps,
         avx_hmin,
-        avx_hmin4
+        avx_hmin4,
+        |b| {
+            let lanes = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+            _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(b), lanes), lanes))
+        }
     );
 
     /// Sixteen lanes with AVX-512 mask registers.
@@ -662,6 +681,10 @@ mod x86 {
         #[inline(always)]
         fn bits(m: __mmask16) -> u32 {
             u32::from(m)
+        }
+        #[inline(always)]
+        fn from_bits(bits: u32) -> __mmask16 {
+            bits as __mmask16
         }
         #[inline(always)]
         fn hmin(self) -> f32 {
@@ -785,6 +808,13 @@ mod tests {
                     assert_eq!((both, either, but), (p < q, p <= q, p < q));
                 }
             }
+        }
+        // Masks from bits, every pattern of a vector's lanes (and bits
+        // above them, ignored).
+        let all = (1u64 << V::W) - 1;
+        for bits in (0..=all).step_by((all / 300).max(1) as usize).chain([all, 0b1010, 1 << (V::W - 1)]) {
+            let bits = bits as u32;
+            assert_eq!(V::bits(V::from_bits(bits | !all as u32)), bits & all as u32, "from_bits {bits:b}");
         }
         assert_eq!(
             group_bits::<V>(s.splat(1.0).lt(s.splat(2.0)), 1 % (LANES / V::W))
