@@ -809,8 +809,9 @@ mod tests {
                 }
             }
         }
-        // Masks from bits, every pattern of a vector's lanes (and bits
-        // above them, ignored).
+        // Masks from bits: every pattern of four or eight lanes, about 300
+        // spread over the patterns of sixteen, and a few chosen ones; the
+        // bits above the vector's lanes are set, to be ignored.
         let all = (1u64 << V::W) - 1;
         for bits in (0..=all).step_by((all / 300).max(1) as usize).chain([all, 0b1010, 1 << (V::W - 1)]) {
             let bits = bits as u32;
