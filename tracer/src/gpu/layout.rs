@@ -121,7 +121,7 @@ fn bvh(scene: &RenderScene) -> Cow<'_, Bvh> {
 }
 
 /// Levels of the tree. The builder writes every node before its children
-/// (`wide::emit` and `parts`), so one pass in array order sees each
+/// (`wide::fill` and `parts`), so one pass in array order sees each
 /// parent's level before its children need it.
 fn tree_depth(nodes: &[Node4]) -> u32 {
     let mut level = vec![0u32; nodes.len()];

@@ -32,7 +32,8 @@ pub(crate) struct Stacks {
 /// they are decided (the binary tree is never stored).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Bvh {
-    /// 4-wide nodes, depth first; node 0 is the root.
+    /// 4-wide nodes, each node's children side by side after it; node 0
+    /// is the root.
     wide: Vec<Node4>,
     /// Primitive ids in leaf order.
     prims: Vec<u32>,
@@ -50,7 +51,7 @@ impl Bvh {
         Bvh { sah_cost: wide::sah_cost(&wide), wide, prims, build_seconds }
     }
 
-    /// The 4-wide nodes, depth first (node 0 is the root), and the
+    /// The 4-wide nodes, each before its children (node 0 is the root), and the
     /// primitive ids in the order leaves index them.
     #[cfg(feature = "gpu")]
     pub(crate) fn nodes(&self) -> (&[Node4], &[u32]) {

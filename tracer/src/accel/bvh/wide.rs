@@ -4,6 +4,9 @@
 //! node is 128 bytes: the boxes in struct-of-arrays form, then the
 //! children.
 //!
+//! Every node's interior children lie side by side, after it (see
+//! [`fill`]): a ray entering two siblings reads neighbouring memory.
+//!
 //! A child with `count == 0` is an interior node (its index in `nodes`);
 //! otherwise it is a leaf holding `prims[child..child + count]`. Unused slots
 //! have empty boxes (min = +inf, max = −inf), which the slab test never hits
@@ -74,7 +77,7 @@ impl Node4 {
     };
 
     /// The 4-wide BVH over every bounded primitive of `geom`: the nodes,
-    /// depth first (node 0 is the root), and the primitive ids in the order
+    /// laid out by [`fill`] (node 0 is the root), and the primitive ids in the order
     /// leaves index. Large subtrees are built on both cores; the tree does
     /// not depend on it.
     pub fn build(geom: &Geometry) -> (Vec<Node4>, Vec<u32>) {
@@ -91,12 +94,19 @@ impl Node4 {
         let root = Binary::root(&prims);
         // Every primitive is in one leaf, which writes its id.
         let mut ids = vec![0; prims.len()];
-        let parts = parts(&mut prims, &mut ids, 0, root, parallel).unwrap_or_else(|| {
-            let mut node = Node4::EMPTY;
-            node.set_leaf(0, &root, 0);
-            build::write_ids(&prims, &mut ids);
-            vec![vec![node]]
-        });
+        let parts = match parts(&mut prims, &mut ids, 0, root, parallel) {
+            // The root first, its links past itself.
+            Some((mut top, below)) => {
+                top.shift_links(1);
+                std::iter::once(vec![top]).chain(below).collect()
+            }
+            None => {
+                let mut node = Node4::EMPTY;
+                node.set_leaf(0, &root, 0);
+                build::write_ids(&prims, &mut ids);
+                vec![vec![node]]
+            }
+        };
         // Freed before the nodes are gathered: the gathered array may then
         // reuse its pages instead of new ones.
         drop(prims);
@@ -113,6 +123,15 @@ impl Node4 {
         }
         self.child[slot] = child;
         self.count[slot] = count;
+    }
+
+    /// Interior links moved `by` places on (leaf links kept).
+    fn shift_links(&mut self, by: u32) {
+        for slot in 0..4 {
+            if self.used(slot) && self.count[slot] == 0 {
+                self.child[slot] += by;
+            }
+        }
     }
 
     /// Slot `slot` holds leaf `b`, whose positions count from `offset` in
@@ -168,15 +187,20 @@ impl Kids {
     }
 }
 
-/// Append the 4-wide subtree over a split node's children `two` to `out`
-/// (links count from `out`'s start; leaf links are `offset` plus positions
-/// in `prims`) and return its index. Its leaves write their primitives'
-/// ids to `ids`, the id array's part at the same positions as `prims`.
-fn emit(prims: &mut [BuildPrim], ids: &mut [u32], offset: usize, two: [Binary; 2], out: &mut Part) -> u32 {
+/// The 4-wide node over a split node's children `two`, its subtree
+/// appended to `out` in the tree's layout: the node's interior children side
+/// by side at the next free places, then each child's subtree below them in
+/// slot order, laid out the same way. A ray that enters two children of a
+/// node reads neighbouring nodes. The node's links count from `out`'s start;
+/// leaf links are `offset` plus positions in `prims`, and the leaves write
+/// their primitives' ids to `ids`, the id array's part at the same
+/// positions as `prims`.
+fn fill(prims: &mut [BuildPrim], ids: &mut [u32], offset: usize, two: [Binary; 2], out: &mut Part) -> Node4 {
     let kids = Kids::open(prims, two);
-    let index = out.len();
-    out.push(Node4::EMPTY);
     let mut wide = Node4::EMPTY;
+    // The interior children's slots and splits, in slot order.
+    let mut inner = [(0, two); 4];
+    let mut n = 0;
     for (slot, k) in kids.nodes[..kids.len].iter().enumerate() {
         match kids.split(prims, slot) {
             None => {
@@ -184,33 +208,44 @@ fn emit(prims: &mut [BuildPrim], ids: &mut [u32], offset: usize, two: [Binary; 2
                 wide.set_leaf(slot, k, offset);
             }
             Some(two) => {
-                let child = emit(prims, ids, offset, two, out);
-                wide.set(slot, k, child, 0);
+                inner[n] = (slot, two);
+                n += 1;
             }
         }
     }
-    out[index] = wide;
-    index as u32
+    let first = out.len();
+    for (j, &(slot, _)) in inner[..n].iter().enumerate() {
+        wide.set(slot, &kids.nodes[slot], (first + j) as u32, 0);
+    }
+    out.resize(first + n, Node4::EMPTY);
+    for (j, &(_, two)) in inner[..n].iter().enumerate() {
+        out[first + j] = fill(prims, ids, offset, two, out);
+    }
+    wide
 }
 
+/// A subtree as [`fill`] lays it out: its root, whose links count from the
+/// start of the first part, and the parts that follow it in the node array
+/// (each part's links counting from that part's start).
+type Subtree = (Node4, Vec<Part>);
+
 /// The 4-wide subtree of `node` over `prims` (which start at `offset` in
-/// the whole array), as parts that follow each other in the node array;
-/// `None` when `node` is a leaf (its ids are then not written). A large
-/// node's children are built in parallel, each on its own slices of
-/// `prims` and `ids`; the parts are laid out as [`emit`] would lay them,
-/// so the tree does not depend on `parallel`.
+/// the whole array); `None` when `node` is a leaf (its ids are then not
+/// written). A large node's children are built in parallel, each on its
+/// own slices of `prims` and `ids`; the parts are laid out as [`fill`]
+/// would lay them, so the tree does not depend on `parallel`.
 fn parts(
     prims: &mut [BuildPrim],
     ids: &mut [u32],
     offset: usize,
     node: Binary,
     parallel: usize,
-) -> Option<Vec<Part>> {
+) -> Option<Subtree> {
     let two = node.split(prims)?;
     if node.len() <= parallel {
         let mut out = Vec::with_capacity(node.len() / 2 + 1);
-        emit(prims, ids, offset, two, &mut out);
-        return Some(vec![out]);
+        let root = fill(prims, ids, offset, two, &mut out);
+        return Some((root, vec![out]));
     }
     let kids = Kids::open(prims, two);
     let nodes = &kids.nodes[..kids.len];
@@ -228,7 +263,7 @@ fn parts(
         let k = nodes[slot];
         jobs.push((slot, mine, my_ids, offset + k.start, k.rebased(k.start), kids.leaf[slot]));
     }
-    let mut built: [Option<Vec<Part>>; 4] = Default::default();
+    let mut built: [Option<Subtree>; 4] = Default::default();
     let subtrees: Vec<_> = jobs
         .into_par_iter()
         .map(|(slot, mine, my_ids, at, k, leaf)| {
@@ -242,20 +277,27 @@ fn parts(
     for (slot, sub) in subtrees {
         built[slot] = sub;
     }
+    // As `fill` lays them out: the children's roots side by side, then
+    // each child's other nodes.
+    let inner = built.iter().filter(|b| b.is_some()).count() as u32;
     let mut wide = Node4::EMPTY;
-    let mut next = 1;
-    let mut out = vec![Vec::new()];
+    let mut roots = Vec::with_capacity(inner as usize);
+    let mut below = Vec::new();
+    let mut placed = inner;
     for ((slot, k), sub) in nodes.iter().enumerate().zip(built) {
-        let Some(sub) = sub else {
+        let Some((mut root, sub)) = sub else {
             wide.set_leaf(slot, k, offset);
             continue;
         };
-        wide.set(slot, k, next, 0);
-        next += sub.iter().map(Vec::len).sum::<usize>() as u32;
-        out.extend(sub);
+        wide.set(slot, k, roots.len() as u32, 0);
+        root.shift_links(placed);
+        roots.push(root);
+        placed += sub.iter().map(Vec::len).sum::<usize>() as u32;
+        below.extend(sub);
     }
-    out[0].push(wide);
-    Some(out)
+    let mut out = vec![roots];
+    out.extend(below);
+    Some((wide, out))
 }
 
 /// The parts in one array, their interior links made absolute: each node
@@ -523,7 +565,7 @@ mod tests {
     }
 
     /// The SAH cost, taken four slots at a time, has the bits of summing
-    /// slot by slot in double precision, node by node in array order.
+    /// slot by slot in double precision, in the same order.
     #[test]
     fn sah_cost_is_the_slot_by_slot_sum() {
         let (nodes, _) = Node4::build(&clustered_spheres(5000));
@@ -537,12 +579,13 @@ mod tests {
             root.bounds[MAX][a][0] =
                 (0..4).map(|s| nodes[0].bounds[MAX][a][s]).fold(f32::NEG_INFINITY, f32::max);
         }
-        let mut cost = area(&root, 0);
-        for n in &nodes {
-            for s in (0..4).filter(|&s| n.used(s)) {
-                cost += if n.count[s] == 0 { 1.0 } else { n.count[s] as f64 } * area(n, s);
-            }
-        }
+        // Summed as `sah_cost` sums: slots, then nodes in runs, then runs.
+        let node_cost = |n: &Node4| {
+            let steps = |s: usize| if n.count[s] == 0 { 1.0 } else { n.count[s] as f64 };
+            (0..4).filter(|&s| n.used(s)).map(|s| steps(s) * area(n, s)).sum::<f64>()
+        };
+        let runs = nodes.chunks(SAH_COST_RUN).map(|run| run.iter().map(node_cost).sum::<f64>());
+        let cost = area(&root, 0) + runs.sum::<f64>();
         assert!(nodes.len() > 100);
         assert_eq!(sah_cost(&nodes).to_bits(), (cost / area(&root, 0)).to_bits());
     }
@@ -559,6 +602,30 @@ mod tests {
         };
         let one = on(1);
         assert!(one == on(3), "one thread against three");
+    }
+
+    /// The layout [`fill`] promises: every node's interior children side by
+    /// side at the next free places, then their subtrees in slot order,
+    /// each laid out the same way; no node left over.
+    #[test]
+    fn children_lie_side_by_side_below_their_parent() {
+        fn lay(nodes: &[Node4], at: usize, next: &mut usize) {
+            let kids: Vec<usize> = (0..4)
+                .filter(|&s| nodes[at].used(s) && nodes[at].count[s] == 0)
+                .map(|s| nodes[at].child[s] as usize)
+                .collect();
+            assert_eq!(kids, (*next..*next + kids.len()).collect::<Vec<_>>(), "children of node {at}");
+            *next += kids.len();
+            for k in kids {
+                lay(nodes, k, next);
+            }
+        }
+        for (n, parallel) in [(3000, usize::MAX), (3000, 16), (20_000, PARALLEL_BUILD)] {
+            let (nodes, _) = Node4::build_with(&clustered_spheres(n), parallel);
+            let mut next = 1;
+            lay(&nodes, 0, &mut next);
+            assert_eq!(next, nodes.len(), "{n} spheres, parallel below {parallel}");
+        }
     }
 
     /// Building subtrees in parallel (down to tiny ones here) lays out the
