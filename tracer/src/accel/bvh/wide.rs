@@ -301,19 +301,14 @@ fn parts(
 }
 
 /// The parts in one array, their interior links made absolute: each node
-/// is copied once, however many levels were built in parallel. (A link of
-/// 0 is an unused slot: a part's first node is no one's child in it.)
+/// is copied once, however many levels were built in parallel.
 fn concat(parts: Vec<Part>) -> Vec<Node4> {
     let mut nodes = Vec::with_capacity(parts.iter().map(Vec::len).sum());
     for part in parts {
         let base = nodes.len() as u32;
         // (Copied on all cores, in order: the nodes do not depend on it.)
         nodes.par_extend(part.into_par_iter().map(|mut n| {
-            for slot in 0..4 {
-                if n.count[slot] == 0 && n.child[slot] != 0 {
-                    n.child[slot] += base;
-                }
-            }
+            n.shift_links(base);
             n
         }));
     }
