@@ -9,10 +9,9 @@
 use crate::accel::{with_accel, Intersector, Tracer};
 use crate::film::Film;
 use crate::filter::Filter;
-use crate::integrator::{SampleId, ThreadState, Whitted};
-use crate::packet::camera::EyeLanes;
+use crate::integrator::{EyeChunk, SampleId, ThreadState, Whitted};
 use crate::prepare::RenderScene;
-use crate::render::{resolve, trace_eye, PixelSamples, PixelWindow, RenderSettings};
+use crate::render::{resolve, trace_chunks, PixelSamples, PixelWindow, RenderSettings};
 use crate::shadow_cache::ShadowCache;
 use crate::simd::lanes::LANES;
 use glam::{Vec2, Vec3A};
@@ -76,29 +75,30 @@ impl Accumulator {
         let centre = settings.pixel_centre_only(camera);
         let index = self.samples;
         let win = self.window;
-        let mut eye = EyeLanes::default();
-        let mut ids = [SampleId { px: 0, py: 0, index }; LANES];
-        let mut w = [0.0f32; LANES];
-        let mut colors = [Vec3A::ZERO; LANES];
         let width = win.width() as usize;
-        for first in (0..self.sums.len()).step_by(LANES) {
-            let n = (self.sums.len() - first).min(LANES);
-            for i in 0..n {
+        let len = self.sums.len();
+        let aim = |c: usize, chunk: &mut EyeChunk| {
+            let first = c * LANES;
+            chunk.n = (len - first).min(LANES);
+            for i in 0..chunk.n {
                 let (px, py) = (win.x0 + ((first + i) % width) as u32, win.y0 + ((first + i) / width) as u32);
                 let (raster, lens, weight) = if centre {
                     (Vec2::new(px as f32 + 0.5, py as f32 + 0.5), Vec2::ZERO, 1.0)
                 } else {
                     PixelSamples::new(camera, sampler, &self.filter, px, py).point(index)
                 };
-                eye.set(i, raster, lens);
-                (w[i], ids[i]) = (weight, SampleId { px, py, index });
+                chunk.eye.set(i, raster, lens);
+                (chunk.weights[i], chunk.ids[i]) = (weight, SampleId { px, py, index });
             }
-            trace_eye(&shader, settings, &eye, &ids[..n], &mut th, &mut colors);
-            for i in 0..n {
-                self.sums[first + i] += w[i] * colors[i];
-                self.weights[first + i] += w[i];
+        };
+        let (sums, weights) = (&mut self.sums, &mut self.weights);
+        let take = |c: usize, w: &[f32], colors: &[Vec3A]| {
+            for (i, (&w, &color)) in w.iter().zip(colors).enumerate() {
+                sums[c * LANES + i] += w * color;
+                weights[c * LANES + i] += w;
             }
-        }
+        };
+        trace_chunks(&shader, settings, len.div_ceil(LANES), &mut th, aim, take);
     }
 
     /// The image so far (black before the first sample).

@@ -7,7 +7,7 @@ use crate::camera::Camera;
 use crate::film::Film;
 use crate::filter::{Filter, FilterKind};
 pub use crate::integrator::ShadeSettings;
-use crate::integrator::{SampleId, ThreadState, Whitted};
+use crate::integrator::{EyeChunk, SampleId, ThreadState, Whitted};
 use crate::packet::camera::EyeLanes;
 use crate::prepare::RenderScene;
 use crate::sampling::{concentric_disk, Sampler, SamplerKind};
@@ -193,21 +193,23 @@ fn render_with<I: Intersector>(
         let win = settings.pixel_window(w, h);
         let grid = Raster { x0: win.x0, y0: win.y0, width: win.width(), height: win.height() };
         let stride = settings.row_stride.max(1);
-        let centre = settings.pixel_centre_only(&scene.camera);
         let (pixels, cost, counters) = run_tiles(&grid, accel, scene, settings, progress, |pts, th, out| {
             if stride > 1 {
                 // Skipped rows stay black; the rest go one by one.
-                for (&(x, y), o) in pts.iter().zip(out.iter_mut()) {
-                    if y.is_multiple_of(stride) {
-                        *o = pixel(&shader, &filter, settings, x, y, th);
+                for (pt, o) in pts.iter().zip(out.iter_mut()) {
+                    if pt.1.is_multiple_of(stride) {
+                        pixels(
+                            &shader,
+                            &filter,
+                            settings,
+                            std::slice::from_ref(pt),
+                            th,
+                            std::slice::from_mut(o),
+                        );
                     }
                 }
-            } else if centre {
-                eye_rays(&shader, settings, pts, th, out, |x, y| Vec2::new(x as f32 + 0.5, y as f32 + 0.5));
             } else {
-                for (&(x, y), o) in pts.iter().zip(out.iter_mut()) {
-                    *o = pixel(&shader, &filter, settings, x, y, th);
-                }
+                pixels(&shader, &filter, settings, pts, th, out);
             }
         });
         RenderOutput {
@@ -220,31 +222,40 @@ fn render_with<I: Intersector>(
     RenderOutput { seconds: t0.seconds(), ..out }
 }
 
-/// Radiance along up to [`LANES`] eye rays, aimed lane by lane as `eye`
-/// says, of samples `ids` into `out`: as one packet set up lane-wise when
-/// packets are on, else one by one. The colours are the same either way.
-#[inline]
-pub(crate) fn trace_eye<I: Intersector>(
+/// Radiance along `count` chunks of up to [`LANES`] eye rays:
+/// `aim(c, chunk)` aims chunk `c`, and `take(c, weights, colours)` gets
+/// its lanes' filter weights and colours, chunk after chunk in order. With
+/// packets on, the chunks go in waves ([`Whitted::trace_waves`]), else ray
+/// by ray. The colours are the same either way.
+pub(crate) fn trace_chunks<I: Intersector>(
     shader: &Whitted,
     settings: &RenderSettings,
-    eye: &EyeLanes,
-    ids: &[SampleId],
+    count: usize,
     th: &mut ThreadState<I>,
-    out: &mut [Vec3A],
+    mut aim: impl FnMut(usize, &mut EyeChunk),
+    mut take: impl FnMut(usize, &[f32], &[Vec3A]),
 ) {
-    th.tracer.counters.eye += ids.len() as u64;
-    if settings.packets && ids.len() > 1 {
-        shader.li_eye_packet(eye, ids, th, out);
+    if settings.packets {
+        shader.trace_waves(count, th, aim, take);
         return;
     }
-    for (i, (&id, o)) in ids.iter().zip(out).enumerate() {
-        let (ray, t_min) = eye.ray(i, &shader.scene.camera);
-        *o = shader.li(ray, t_min, 1, 1.0, id, th);
+    let mut chunk = EyeChunk::default();
+    let mut colors = [Vec3A::ZERO; LANES];
+    for c in 0..count {
+        aim(c, &mut chunk);
+        let n = chunk.n.min(LANES);
+        th.tracer.counters.eye += n as u64;
+        for (i, color) in colors[..n].iter_mut().enumerate() {
+            let (ray, t_min) = chunk.eye.ray(i, &shader.scene.camera);
+            *color = shader.li(ray, t_min, 1, 1.0, chunk.ids[i], th);
+        }
+        take(c, &chunk.weights[..n], &colors[..n]);
     }
 }
 
 /// One eye ray per point of `pts`, through the raster position `raster`
-/// gives it (with the lens centre), traced together.
+/// gives it (with the lens centre), its colour to `out`; [`LANES`]
+/// neighbouring points a chunk.
 #[inline]
 fn eye_rays<I: Intersector>(
     shader: &Whitted,
@@ -254,55 +265,66 @@ fn eye_rays<I: Intersector>(
     out: &mut [Vec3A],
     raster: impl Fn(u32, u32) -> Vec2,
 ) {
-    let mut ids = [SampleId { px: 0, py: 0, index: 0 }; LANES];
-    let mut eye = EyeLanes::default();
-    for (i, &(px, py)) in pts.iter().enumerate() {
-        ids[i] = SampleId { px, py, index: 0 };
-        eye.set(i, raster(px, py), Vec2::ZERO);
-    }
-    trace_eye(shader, settings, &eye, &ids[..pts.len()], th, out);
+    let aim = |c: usize, chunk: &mut EyeChunk| {
+        let of_chunk = &pts[c * LANES..((c + 1) * LANES).min(pts.len())];
+        for (i, &(px, py)) in of_chunk.iter().enumerate() {
+            chunk.ids[i] = SampleId { px, py, index: 0 };
+            chunk.eye.set(i, raster(px, py), Vec2::ZERO);
+        }
+        chunk.n = of_chunk.len();
+    };
+    let take = |c: usize, _: &[f32], colors: &[Vec3A]| {
+        out[c * LANES..c * LANES + colors.len()].copy_from_slice(colors);
+    };
+    trace_chunks(shader, settings, pts.len().div_ceil(LANES), th, aim, take);
 }
 
-/// One pixel: its samples through the filter, weighted by the filter's sign,
-/// traced [`LANES`] at a time (as packets when packets are on).
-#[inline]
-fn pixel<I: Intersector>(
+/// The pixels `pts`, each its samples through the filter, weighted by the
+/// filter's sign, its colour to `out`. A pixel's samples go [`LANES`] to a
+/// chunk, and its sum is taken in sample order.
+fn pixels<I: Intersector>(
     shader: &Whitted,
     filter: &Filter,
     settings: &RenderSettings,
-    px: u32,
-    py: u32,
+    pts: &[(u32, u32)],
     th: &mut ThreadState<I>,
-) -> Vec3A {
+    out: &mut [Vec3A],
+) {
     let camera = &shader.scene.camera;
-    let sampler = &settings.sampler;
     if settings.pixel_centre_only(camera) {
-        let mut color = [Vec3A::ZERO];
-        eye_rays(shader, settings, &[(px, py)], th, &mut color, |x, y| {
-            Vec2::new(x as f32 + 0.5, y as f32 + 0.5)
-        });
-        return color[0];
+        eye_rays(shader, settings, pts, th, out, |x, y| Vec2::new(x as f32 + 0.5, y as f32 + 0.5));
+        return;
     }
-    let samples = PixelSamples::new(camera, sampler, filter, px, py);
-    let (mut sum, mut weights) = (Vec3A::ZERO, 0.0);
-    // Up to LANES samples at a time; the sum is taken in sample order.
-    let mut ids = [SampleId { px, py, index: 0 }; LANES];
-    let mut w = [0.0f32; LANES];
-    let mut colors = [Vec3A::ZERO; LANES];
-    let mut eye = EyeLanes::default();
-    for first in (0..sampler.spp).step_by(LANES) {
+    let sampler = &settings.sampler;
+    let per_pixel = (sampler.spp as usize).div_ceil(LANES);
+    // The pixel last aimed, with its patterns.
+    let mut aiming: Option<(usize, PixelSamples)> = None;
+    let aim = |c: usize, chunk: &mut EyeChunk| {
+        let (p, first) = (c / per_pixel, (c % per_pixel * LANES) as u32);
+        let (px, py) = pts[p];
+        if aiming.as_ref().is_none_or(|(q, _)| *q != p) {
+            aiming = Some((p, PixelSamples::new(camera, sampler, filter, px, py)));
+        }
+        let Some((_, samples)) = &aiming else { return };
         let n = (sampler.spp - first).min(LANES as u32) as usize;
-        for (i, id) in ids[..n].iter_mut().enumerate() {
-            id.index = first + i as u32;
+        for (i, id) in chunk.ids[..n].iter_mut().enumerate() {
+            *id = SampleId { px, py, index: first + i as u32 };
         }
-        samples.points(first, &mut eye, &mut w[..n]);
-        trace_eye(shader, settings, &eye, &ids[..n], th, &mut colors);
-        for i in 0..n {
-            sum += w[i] * colors[i];
-            weights += w[i];
+        samples.points(first, &mut chunk.eye, &mut chunk.weights[..n]);
+        chunk.n = n;
+    };
+    let (mut sum, mut weights) = (Vec3A::ZERO, 0.0);
+    let take = |c: usize, w: &[f32], colors: &[Vec3A]| {
+        for (&w, &color) in w.iter().zip(colors) {
+            sum += w * color;
+            weights += w;
         }
-    }
-    resolve(sum, weights, sampler.spp)
+        if c % per_pixel == per_pixel - 1 {
+            out[c / per_pixel] = resolve(sum, weights, sampler.spp);
+            (sum, weights) = (Vec3A::ZERO, 0.0);
+        }
+    };
+    trace_chunks(shader, settings, pts.len() * per_pixel, th, aim, take);
 }
 
 /// The eye rays of one pixel's samples: its patterns computed once (a
@@ -424,27 +446,29 @@ fn run_tiles<I: Intersector>(
                 let tw = (x1 - tx) as usize;
                 let mut colors = vec![Vec3A::ZERO; tw * (y1 - ty) as usize];
                 let mut costs = vec![0u64; if want_cost { colors.len() } else { 0 }];
-                let mut pts = [(0u32, 0u32); LANES];
-                let mut out = [Vec3A::ZERO; LANES];
+                // The tile's points, 4x4 blocks one after another with
+                // packets (so that each chunk of LANES pixel centres is a
+                // block), else row by row.
+                let mut pts = Vec::with_capacity(colors.len());
                 for by in (ty..y1).step_by(block as usize) {
                     for bx in (tx..x1).step_by(block as usize) {
-                        let mut n = 0;
                         for y in by..(by + block).min(y1) {
-                            for x in bx..(bx + block).min(x1) {
-                                pts[n] = (grid.x0 + x, grid.y0 + y);
-                                n += 1;
-                            }
+                            pts.extend((bx..(bx + block).min(x1)).map(|x| (grid.x0 + x, grid.y0 + y)));
                         }
+                    }
+                }
+                let at = |(x, y): (u32, u32)| (y - grid.y0 - ty) as usize * tw + (x - grid.x0 - tx) as usize;
+                if want_cost {
+                    for &pt in &pts {
                         let work = th.tracer.counters.work();
-                        out[..n].fill(Vec3A::ZERO);
-                        f(&pts[..n], th, &mut out[..n]);
-                        for (&(x, y), &c) in pts[..n].iter().zip(&out[..n]) {
-                            let i = (y - grid.y0 - ty) as usize * tw + (x - grid.x0 - tx) as usize;
-                            colors[i] = c;
-                            if want_cost {
-                                costs[i] = th.tracer.counters.work() - work;
-                            }
-                        }
+                        f(&[pt], th, std::slice::from_mut(&mut colors[at(pt)]));
+                        costs[at(pt)] = th.tracer.counters.work() - work;
+                    }
+                } else {
+                    let mut out = vec![Vec3A::ZERO; pts.len()];
+                    f(&pts, th, &mut out);
+                    for (&pt, &c) in pts.iter().zip(&out) {
+                        colors[at(pt)] = c;
                     }
                 }
                 // Each tile takes its thread's counters, leaving them zeroed.

@@ -28,6 +28,9 @@
 //! packets of rays, sharing every decision made here.
 
 mod packet;
+mod wave;
+
+pub(crate) use wave::EyeChunk;
 
 use crate::accel::{test_prim, AnyHit, Intersector, Tracer};
 use crate::geometry::Hit;
@@ -149,9 +152,33 @@ impl Whitted<'_> {
         id: SampleId,
         th: &mut ThreadState<I>,
     ) -> Vec3A {
+        let (mut color, Some(sp)) = self.local(ray, t_min, depth, id, th) else {
+            return self.scene.miss(ray.d);
+        };
+        for (kind, spawned) in self.spawn(&sp, depth, weight, &mut th.tracer.counters).into_iter().enumerate()
+        {
+            let Some((ray, share)) = spawned else { continue };
+            color += share * tint(kind, sp.m) * self.li(ray, 0.0, depth + 1, weight * share, id, th);
+        }
+        color
+    }
+
+    /// What `ray` (from `t_min`, at `depth`) sees before any ray it
+    /// spawns: with its hit's shading record, the ambient and direct light
+    /// there; without a hit, no record (the colour is then black, and
+    /// [`RenderScene::miss`] says what the ray sees).
+    #[inline]
+    fn local<I: Intersector>(
+        &self,
+        ray: Ray,
+        t_min: f32,
+        depth: u32,
+        id: SampleId,
+        th: &mut ThreadState<I>,
+    ) -> (Vec3A, Option<ShadePoint<'_>>) {
         let scene = self.scene;
         let q = RayQuery::new(ray, t_min);
-        let Some(hit) = th.tracer.nearest(&q, f32::INFINITY) else { return scene.miss(ray.d) };
+        let Some(hit) = th.tracer.nearest(&q, f32::INFINITY) else { return (Vec3A::ZERO, None) };
         if depth == 1 {
             th.tracer.counters.eye_hits += 1;
         }
@@ -163,12 +190,7 @@ impl Whitted<'_> {
                 color += self.direct(&sp, k, lr.l, lr.n_dot_l);
             }
         }
-        for (kind, spawned) in self.spawn(&sp, depth, weight, &mut th.tracer.counters).into_iter().enumerate()
-        {
-            let Some((ray, share)) = spawned else { continue };
-            color += share * tint(kind, sp.m) * self.li(ray, 0.0, depth + 1, weight * share, id, th);
-        }
-        color
+        (color, Some(sp))
     }
 
     /// The shading record of `hit` on the ray of `q`.

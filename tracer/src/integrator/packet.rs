@@ -1,12 +1,14 @@
-//! The Whitted shading of [`super`] for packets of rays: the rays, the
-//! shadow rays of their hits toward each light, and each kind of ray they
-//! spawn (mirror, mirror on total internal reflection, refracted) travel as
-//! packets, their geometry set up lane-wise by [`crate::packet`]; every
+//! The Whitted shading of [`super`] for packets of rays, one depth at a
+//! time: the rays and the shadow rays of their hits toward each light
+//! travel as packets, their geometry set up lane-wise by
+//! [`crate::packet`], and the rays the hits spawn go to the [`Wave`],
+//! which traces them at the next depth in packets of their own. Every
 //! decision (colours, which rays to spawn) is made lane by lane by the same
 //! code as for single rays, so each lane's colour equals what
 //! [`Whitted::li`] gives for its ray: the same hits, and the same sums in
 //! the same order.
 
+use super::wave::{Wave, NO_NODE};
 use super::{tint, SampleId, ShadePoint, ThreadState, Whitted};
 use crate::accel::Intersector;
 use crate::math::Ray;
@@ -25,36 +27,44 @@ type Points<'s> = [Option<ShadePoint<'s>>; LANES];
 impl Whitted<'_> {
     /// Radiance along the eye rays of samples `ids` (at most [`LANES`]),
     /// aimed lane by lane as `eye` says and set up lane-wise
-    /// ([`eye_rays`]); lane `i`'s colour goes to `out[i]`. Each colour is
-    /// what [`Whitted::li`] gives for the lane's ray.
-    pub(crate) fn li_eye_packet<I: Intersector>(
+    /// ([`eye_rays`]), into `out` (whose nodes are all [`NO_NODE`]).
+    pub(super) fn li_eye_packet<I: Intersector>(
         &self,
         eye: &EyeLanes,
         ids: &[SampleId],
         th: &mut ThreadState<I>,
-        out: &mut [Vec3A],
+        wave: &mut Wave,
+        out: &mut LaneRadiance,
     ) {
-        let n = ids.len().min(LANES).min(out.len());
+        let n = ids.len().min(LANES);
         let mut packet = RayPacket::empty();
         eye_rays(crate::simd::isa(), &self.scene.camera, eye, first_lanes(n), &mut packet);
         let mut lane_ids = [SampleId { px: 0, py: 0, index: 0 }; LANES];
         lane_ids[..n].copy_from_slice(&ids[..n]);
-        let mut colors = [Vec3A::ZERO; LANES];
-        self.li_lanes(&packet, &Lanes([1.0; LANES]), 1, &lane_ids, th, &mut colors);
-        out[..n].copy_from_slice(&colors[..n]);
+        self.li_lanes(&packet, &Lanes([1.0; LANES]), 1, &lane_ids, th, wave, out);
     }
 
     /// Radiance along the rays of the active lanes of `packet`, wherever
     /// they are, at path depth `depth`: lane `i` carries `weights[i]` for
-    /// sample `ids[i]`, and its colour goes to `out[i]`.
-    fn li_lanes<I: Intersector>(
+    /// sample `ids[i]`. Its radiance goes to `out.color[i]`, or, where it
+    /// waits on rays the wave defers, to the wave's node `out.node[i]`
+    /// (made here where that is [`NO_NODE`]; a lane given a node always
+    /// ends there).
+    ///
+    /// The rays of one kind that enough lanes spawn are traced at once, as
+    /// a packet of their parents' lanes; those of a kind that only a few
+    /// spawn are deferred to the wave, which regroups them with the rays of
+    /// other packets.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn li_lanes<I: Intersector>(
         &self,
         packet: &RayPacket,
         weights: &Lanes,
         depth: u32,
         ids: &[SampleId; LANES],
         th: &mut ThreadState<I>,
-        out: &mut [Vec3A; LANES],
+        wave: &mut Wave,
+        out: &mut LaneRadiance,
     ) {
         let scene = self.scene;
         let geom = &scene.geometry;
@@ -62,12 +72,12 @@ impl Whitted<'_> {
         th.tracer.nearest_packet(packet, &mut hits);
         let mut points = [None; LANES];
         let mut at = PointLanes::default();
-        let mut color = [Vec3A::ZERO; LANES];
+        let color = &mut out.color;
         let hit = hits.found();
         let entering = surfaces(crate::simd::isa(), geom, packet, &hits, hit, &mut at);
         for_lanes(packet.active, |i| {
             if hit >> i & 1 == 0 {
-                out[i] = scene.miss(lane(&packet.d, i));
+                color[i] = scene.miss(lane(&packet.d, i));
                 return;
             }
             if depth == 1 {
@@ -81,11 +91,12 @@ impl Whitted<'_> {
         let mut shadow = RayPacket::empty();
         let shaded = hit & packet.active;
         for k in 0..scene.lights.len() {
-            self.light_packet(k, depth, &points, shaded, &at, ids, &mut color, &mut shadow, th);
+            self.light_packet(k, depth, &points, shaded, &at, ids, color, &mut shadow, th);
         }
-        // Spawned rays, each kind one packet whose lanes are their parents'
-        // lanes, their geometry taken as the bounce kernel left it.
-        // (Most packets, on matte surfaces or at the last level, spawn
+        // Lanes whose colour sum has moved to their node.
+        let mut in_node: Mask = 0;
+        // The spawned rays, their geometry taken as the bounce kernel left
+        // it. (Most packets, on matte surfaces or at the last level, spawn
         // nothing: then no bounce is computed.)
         let b = self.bounce_lanes(&points, &at, packet, depth);
         if b.want != 0 {
@@ -104,14 +115,22 @@ impl Whitted<'_> {
             });
             for kind in (0..3).filter(|&kind| spawned[kind] != 0) {
                 let of_kind = SpawnedLanes { kind, lanes: spawned[kind], shares: &shares[kind] };
-                self.trace_spawned(&b, &of_kind, &points, depth + 1, weights, ids, &mut color, th);
+                self.trace_spawned(
+                    &b,
+                    &of_kind,
+                    &points,
+                    depth + 1,
+                    weights,
+                    ids,
+                    th,
+                    wave,
+                    out,
+                    &mut in_node,
+                );
             }
         }
-        for (i, sp) in points.iter().enumerate() {
-            if sp.is_some() {
-                out[i] = color[i];
-            }
-        }
+        // A lane given a node ends there.
+        for_lanes(packet.active & out.waiting & !in_node, |i| wave.set_color(out.node[i], out.color[i]));
     }
 
     /// The bounces ([`bounces`]) of the lanes of `points` (at `depth`)
@@ -187,11 +206,16 @@ impl Whitted<'_> {
             id => th.shadow_cache.set(k, depth, id),
         });
     }
-
-    /// Trace the rays of one kind, `of_kind`, at `depth` from the bounces
-    /// `b`, as a packet of their parents' lanes when there are
-    /// several, adding `share × tint × radiance` to each lane's colour
-    /// (`points` holding the lanes' materials, `parents` their weights).
+}
+impl Whitted<'_> {
+    /// The rays of one kind, `of_kind`, at `depth` from the bounces `b`
+    /// (`points` holding the lanes' materials, `parents` their weights):
+    /// traced at once as a packet of their parents' lanes when every lane
+    /// spawned one, their `share × tint × radiance` added to each lane's
+    /// colour; else deferred to the wave, to be regrouped (while it has
+    /// room: else traced at once all the same). A lane whose
+    /// colour waits on a deferred ray moves its sum to its node (marked in
+    /// `in_node`), and what follows goes there in order.
     #[allow(clippy::too_many_arguments)]
     fn trace_spawned<I: Intersector>(
         &self,
@@ -201,26 +225,72 @@ impl Whitted<'_> {
         depth: u32,
         parents: &Lanes,
         ids: &[SampleId; LANES],
-        color: &mut [Vec3A; LANES],
         th: &mut ThreadState<I>,
+        wave: &mut Wave,
+        out: &mut LaneRadiance,
+        in_node: &mut Mask,
     ) {
         let SpawnedLanes { kind, lanes, shares } = *of_kind;
         let (o, d) = if kind == 2 { (&b.refract_o, &b.refract_d) } else { (&b.mirror_o, &b.mirror_d) };
         let mut weights = Lanes::ZERO;
         for_lanes(lanes, |i| weights.0[i] = parents.0[i] * shares.0[i]);
-        let mut radiance = [Vec3A::ZERO; LANES];
-        if lanes.count_ones() == 1 {
-            let i = lanes.trailing_zeros() as usize;
-            let ray = Ray { o: lane(o, i), d: lane(d, i) };
-            radiance[i] = self.li(ray, 0.0, depth, weights.0[i], ids[i], th);
-        } else {
-            let packet = RayPacket::from_lanes(o, d, lanes);
-            self.li_lanes(&packet, &weights, depth, ids, th, &mut radiance);
+        let factor = |i: usize| shares.0[i] * points[i].as_ref().map_or(Vec3A::ONE, |sp| tint(kind, sp.m));
+        if (lanes.count_ones() as usize) < LANES && wave.has_room() {
+            for_lanes(lanes, |i| {
+                let node = out.open(i, in_node, depth - 1, wave);
+                let ray = Ray { o: lane(o, i), d: lane(d, i) };
+                wave.defer(node, kind, ray, depth, weights.0[i], factor(i), ids[i]);
+            });
+            return;
+        }
+        let packet = RayPacket::from_lanes(o, d, lanes);
+        let mut radiance = LaneRadiance::default();
+        self.li_lanes(&packet, &weights, depth, ids, th, wave, &mut radiance);
+        if (radiance.waiting | *in_node) & lanes == 0 {
+            for_lanes(lanes, |i| out.color[i] += factor(i) * radiance.color[i]);
+            return;
         }
         for_lanes(lanes, |i| {
-            let tint = points[i].as_ref().map_or(Vec3A::ONE, |sp| tint(kind, sp.m));
-            color[i] += shares.0[i] * tint * radiance[i];
+            if radiance.waiting >> i & 1 != 0 {
+                let node = out.open(i, in_node, depth - 1, wave);
+                wave.link(node, kind, radiance.node[i], factor(i));
+            } else if *in_node >> i & 1 != 0 {
+                wave.add(out.node[i], kind, factor(i) * radiance.color[i]);
+            } else {
+                out.color[i] += factor(i) * radiance.color[i];
+            }
         });
+    }
+}
+
+/// What a packet's lanes see: lane `i`'s radiance is `color[i]`, or, in
+/// the lanes of `waiting`, wave node `node[i]`'s once the wave is resolved.
+#[derive(Debug, Clone)]
+pub(super) struct LaneRadiance {
+    pub color: [Vec3A; LANES],
+    pub node: [u32; LANES],
+    pub waiting: Mask,
+}
+
+impl Default for LaneRadiance {
+    fn default() -> Self {
+        LaneRadiance { color: [Vec3A::ZERO; LANES], node: [NO_NODE; LANES], waiting: 0 }
+    }
+}
+
+impl LaneRadiance {
+    /// Lane `i`'s node, with its colour so far moved there (once: `in_node`
+    /// marks the lanes moved), made at `depth` where it has none.
+    fn open(&mut self, i: usize, in_node: &mut Mask, depth: u32, wave: &mut Wave) -> u32 {
+        if *in_node >> i & 1 == 0 {
+            if self.waiting >> i & 1 == 0 {
+                self.node[i] = wave.add_node(depth);
+                self.waiting |= 1 << i;
+            }
+            wave.set_color(self.node[i], self.color[i]);
+            *in_node |= 1 << i;
+        }
+        self.node[i]
     }
 }
 
