@@ -237,7 +237,7 @@ impl Whitted<'_> {
         let factor = |i: usize| shares.0[i] * points[i].as_ref().map_or(Vec3A::ONE, |sp| tint(kind, sp.m));
         if (lanes.count_ones() as usize) < LANES && wave.has_room() {
             for_lanes(lanes, |i| {
-                let node = out.open(i, in_node, depth - 1, wave);
+                let node = out.open(i, in_node, wave);
                 let ray = Ray { o: lane(o, i), d: lane(d, i) };
                 wave.defer(node, kind, ray, depth, weights.0[i], factor(i), ids[i]);
             });
@@ -252,7 +252,7 @@ impl Whitted<'_> {
         }
         for_lanes(lanes, |i| {
             if radiance.waiting >> i & 1 != 0 {
-                let node = out.open(i, in_node, depth - 1, wave);
+                let node = out.open(i, in_node, wave);
                 wave.link(node, kind, radiance.node[i], factor(i));
             } else if *in_node >> i & 1 != 0 {
                 wave.add(out.node[i], kind, factor(i) * radiance.color[i]);
@@ -280,11 +280,11 @@ impl Default for LaneRadiance {
 
 impl LaneRadiance {
     /// Lane `i`'s node, with its colour so far moved there (once: `in_node`
-    /// marks the lanes moved), made at `depth` where it has none.
-    fn open(&mut self, i: usize, in_node: &mut Mask, depth: u32, wave: &mut Wave) -> u32 {
+    /// marks the lanes moved), made where it has none.
+    fn open(&mut self, i: usize, in_node: &mut Mask, wave: &mut Wave) -> u32 {
         if *in_node >> i & 1 == 0 {
             if self.waiting >> i & 1 == 0 {
-                self.node[i] = wave.add_node(depth);
+                self.node[i] = wave.add_node();
                 self.waiting |= 1 << i;
             }
             wave.set_color(self.node[i], self.color[i]);

@@ -10,8 +10,8 @@
 //! its colour summed so far, the factor its parent sees it through
 //! (share × tint), and what each later kind of spawned ray adds, as a
 //! colour already known or as a child node. Once every deferred ray has
-//! been traced, the nodes are resolved from the deepest up, each adding its
-//! kinds in order. These are the sums [`Whitted::li`] makes, in the same
+//! been traced, the nodes are resolved from the eye rays down, each adding
+//! its kinds in order, a child's radiance resolved before it is added. These are the sums [`Whitted::li`] makes, in the same
 //! order, on the same values, so every colour is bit for bit the one the
 //! ray-by-ray path gives.
 
@@ -21,7 +21,7 @@ use crate::accel::Intersector;
 use crate::math::Ray;
 use crate::packet::camera::EyeLanes;
 use crate::packet::RayPacket;
-use crate::simd::lanes::{first_lanes, set_lane, Lanes, LANES};
+use crate::simd::lanes::{first_lanes, for_lanes, set_lane, Lanes, LANES};
 use glam::Vec3A;
 
 /// Nodes a wave may hold before it defers no more rays (about 25 MB):
@@ -53,8 +53,6 @@ struct Node {
     known: [Vec3A; 3],
     /// Each kind's child node, [`KNOWN`], or [`NO_NODE`].
     child: [u32; 3],
-    /// Its path depth.
-    depth: u32,
 }
 
 /// A deferred ray waiting for its depth's turn.
@@ -123,16 +121,11 @@ impl Wave {
         self.deferred.iter_mut().for_each(Vec::clear);
     }
 
-    /// A new node at `depth`, its colour and children not yet known.
-    pub(super) fn add_node(&mut self, depth: u32) -> u32 {
+    /// A new node, its colour and children not yet known.
+    pub(super) fn add_node(&mut self) -> u32 {
         let node = self.nodes.len() as u32;
-        let blank = Node {
-            color: Vec3A::ZERO,
-            factor: Vec3A::ONE,
-            known: [Vec3A::ZERO; 3],
-            child: [NO_NODE; 3],
-            depth,
-        };
+        let blank =
+            Node { color: Vec3A::ZERO, factor: Vec3A::ONE, known: [Vec3A::ZERO; 3], child: [NO_NODE; 3] };
         self.nodes.push(blank);
         node
     }
@@ -177,7 +170,7 @@ impl Wave {
         factor: Vec3A,
         id: SampleId,
     ) {
-        let child = self.add_node(depth);
+        let child = self.add_node();
         self.link(node, kind, child, factor);
         let depth = depth as usize;
         if self.deferred.len() <= depth {
@@ -205,31 +198,33 @@ impl Wave {
         true
     }
 
-    /// Every node's radiance: deepest first, its colour so far plus each
-    /// kind's contribution in order (a child's radiance is final before its
-    /// parent's, being one level deeper).
+    /// Every node's radiance, from the eye rays' nodes down.
     fn resolve(&mut self) {
-        let deepest = self.nodes.iter().map(|n| n.depth).max().unwrap_or(0);
-        for depth in (0..=deepest).rev() {
-            for i in 0..self.nodes.len() {
-                let n = self.nodes[i];
-                if n.depth != depth {
-                    continue;
+        for c in 0..self.chunks.len() {
+            let (nodes, waiting) = (self.chunks[c].radiance.node, self.chunks[c].radiance.waiting);
+            for_lanes(waiting, |i| {
+                self.resolve_node(nodes[i]);
+            });
+        }
+    }
+
+    /// `node`'s radiance, resolved (with its children's, first): its colour
+    /// so far plus each kind's contribution in order.
+    fn resolve_node(&mut self, node: u32) -> Vec3A {
+        let n = self.nodes[node as usize];
+        let mut color = n.color;
+        for (kind, &c) in n.child.iter().enumerate() {
+            match c {
+                NO_NODE => {}
+                KNOWN => color += n.known[kind],
+                c => {
+                    let radiance = self.resolve_node(c);
+                    color += self.nodes[c as usize].factor * radiance;
                 }
-                let mut color = n.color;
-                for (kind, &c) in n.child.iter().enumerate() {
-                    match c {
-                        NO_NODE => {}
-                        KNOWN => color += n.known[kind],
-                        c => {
-                            let child = &self.nodes[c as usize];
-                            color += child.factor * child.color;
-                        }
-                    }
-                }
-                self.nodes[i].color = color;
             }
         }
+        self.nodes[node as usize].color = color;
+        color
     }
 
     /// Lane `i`'s radiance in `r`, once resolved.
