@@ -302,10 +302,10 @@ fn pixels<I: Intersector>(
     let aim = |c: usize, chunk: &mut EyeChunk| {
         let (p, first) = (c / per_pixel, (c % per_pixel * LANES) as u32);
         let (px, py) = pts[p];
-        if aiming.as_ref().is_none_or(|(q, _)| *q != p) {
-            aiming = Some((p, PixelSamples::new(camera, sampler, filter, px, py)));
-        }
-        let Some((_, samples)) = &aiming else { return };
+        let (_, samples) = match &mut aiming {
+            Some(last) if last.0 == p => last,
+            slot => slot.insert((p, PixelSamples::new(camera, sampler, filter, px, py))),
+        };
         let n = (sampler.spp - first).min(LANES as u32) as usize;
         for (i, id) in chunk.ids[..n].iter_mut().enumerate() {
             *id = SampleId { px, py, index: first + i as u32 };
@@ -404,14 +404,15 @@ pub(crate) fn resolve(sum: Vec3A, weights: f32, spp: u32) -> Vec3A {
 
 type TileResult = (u32, Vec<Vec3A>, Vec<u64>, Counters);
 
-/// Side of the pixel blocks handed to `f` when packets are on: 4x4 fills
-/// one packet of [`LANES`] pixel-centre rays.
+/// Side of the pixel blocks a tile's points are ordered in when packets
+/// are on: 4x4 fills one packet of [`LANES`] pixel-centre rays.
 const BLOCK: u32 = 4;
 const _: () = assert!((BLOCK * BLOCK) as usize == LANES);
 
-/// Evaluate `f` at every point of `grid`, tile by tile on all cores, in
-/// blocks of up to 4x4 points (`f` fills one colour per point); with
-/// `want_cost`, one point at a time, recording the traversal work each took.
+/// Evaluate `f` at every point of `grid`, tile by tile on all cores: a
+/// tile's points at once (in 4x4 blocks with packets, row by row without;
+/// `f` fills one colour per point), or with `want_cost` one point at a
+/// time, recording the traversal work each took.
 fn run_tiles<I: Intersector>(
     grid: &Raster,
     accel: &I,

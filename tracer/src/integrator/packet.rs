@@ -1,8 +1,10 @@
-//! The Whitted shading of [`super`] for packets of rays, one depth at a
-//! time: the rays and the shadow rays of their hits toward each light
-//! travel as packets, their geometry set up lane-wise by
-//! [`crate::packet`], and the rays the hits spawn go to the [`Wave`],
-//! which traces them at the next depth in packets of their own. Every
+//! The Whitted shading of [`super`] for packets of rays: the rays, the
+//! shadow rays of their hits toward each light, and each kind of ray they
+//! spawn (mirror, mirror on total internal reflection, refracted) travel as
+//! packets, their geometry set up lane-wise by [`crate::packet`]. A kind
+//! that every lane spawns goes on at once as a packet of their lanes; a
+//! kind that only some lanes spawn is deferred to the [`Wave`], which
+//! regroups such rays of many packets into full packets. Every
 //! decision (colours, which rays to spawn) is made lane by lane by the same
 //! code as for single rays, so each lane's colour equals what
 //! [`Whitted::li`] gives for its ray: the same hits, and the same sums in
@@ -27,7 +29,7 @@ type Points<'s> = [Option<ShadePoint<'s>>; LANES];
 impl Whitted<'_> {
     /// Radiance along the eye rays of samples `ids` (at most [`LANES`]),
     /// aimed lane by lane as `eye` says and set up lane-wise
-    /// ([`eye_rays`]), into `out` (whose nodes are all [`NO_NODE`]).
+    /// ([`eye_rays`]), into `out` (no lane waiting yet).
     pub(super) fn li_eye_packet<I: Intersector>(
         &self,
         eye: &EyeLanes,
@@ -48,13 +50,8 @@ impl Whitted<'_> {
     /// they are, at path depth `depth`: lane `i` carries `weights[i]` for
     /// sample `ids[i]`. Its radiance goes to `out.color[i]`, or, where it
     /// waits on rays the wave defers, to the wave's node `out.node[i]`
-    /// (made here where that is [`NO_NODE`]; a lane given a node always
-    /// ends there).
-    ///
-    /// The rays of one kind that enough lanes spawn are traced at once, as
-    /// a packet of their parents' lanes; those of a kind that only a few
-    /// spawn are deferred to the wave, which regroups them with the rays of
-    /// other packets.
+    /// (marked in `out.waiting`; made here for a lane not yet waiting, and a
+    /// lane the caller gave a node ends there).
     #[allow(clippy::too_many_arguments)]
     pub(super) fn li_lanes<I: Intersector>(
         &self,
@@ -206,16 +203,15 @@ impl Whitted<'_> {
             id => th.shadow_cache.set(k, depth, id),
         });
     }
-}
-impl Whitted<'_> {
+
     /// The rays of one kind, `of_kind`, at `depth` from the bounces `b`
     /// (`points` holding the lanes' materials, `parents` their weights):
     /// traced at once as a packet of their parents' lanes when every lane
     /// spawned one, their `share × tint × radiance` added to each lane's
     /// colour; else deferred to the wave, to be regrouped (while it has
-    /// room: else traced at once all the same). A lane whose
-    /// colour waits on a deferred ray moves its sum to its node (marked in
-    /// `in_node`), and what follows goes there in order.
+    /// room: else traced at once all the same). A lane whose colour waits
+    /// on a deferred ray moves its sum to its node (marked in `in_node`),
+    /// and what follows goes there in order.
     #[allow(clippy::too_many_arguments)]
     fn trace_spawned<I: Intersector>(
         &self,
