@@ -239,9 +239,16 @@ impl Whitted<'_> {
             });
             return;
         }
-        let packet = RayPacket::from_lanes(o, d, lanes);
         let mut radiance = LaneRadiance::default();
-        self.li_lanes(&packet, &weights, depth, ids, th, wave, &mut radiance);
+        if lanes.count_ones() == 1 {
+            // A lone ray (the wave full) goes ray by ray: no packet set-up.
+            let i = lanes.trailing_zeros() as usize;
+            let ray = Ray { o: lane(o, i), d: lane(d, i) };
+            radiance.color[i] = self.li(ray, 0.0, depth, weights.0[i], ids[i], th);
+        } else {
+            let packet = RayPacket::from_lanes(o, d, lanes);
+            self.li_lanes(&packet, &weights, depth, ids, th, wave, &mut radiance);
+        }
         if (radiance.waiting | *in_node) & lanes == 0 {
             for_lanes(lanes, |i| out.color[i] += factor(i) * radiance.color[i]);
             return;

@@ -24,11 +24,13 @@ use crate::packet::RayPacket;
 use crate::simd::lanes::{first_lanes, for_lanes, set_lane, Lanes, LANES};
 use glam::Vec3A;
 
-/// Nodes a wave may hold before it defers no more rays (about 25 MB):
-/// past it, scattered rays are traced at once, as small packets, so that a
-/// deep ray tree (a large `--depth` through glass) needs no more memory
-/// than ray by ray. The tests' scenes are small: they reach a smaller one.
-const MAX_NODES: usize = if cfg!(test) { 2048 } else { 1 << 18 };
+/// Nodes a wave may hold before it defers no more rays (with its deferred
+/// rays, about 10 MB a thread; the SPD scenes at 16 to 64 spp need at most
+/// 24,159): past it, scattered rays are traced at once, as small packets,
+/// so that a deep ray tree (a large `--depth` through glass) needs no more
+/// memory than ray by ray. The tests' scenes are small: they reach a
+/// smaller one.
+const MAX_NODES: usize = if cfg!(test) { 2048 } else { 1 << 16 };
 
 /// A node index meaning none (no node, no child of that kind).
 pub(super) const NO_NODE: u32 = u32::MAX;
