@@ -61,6 +61,7 @@ struct Node {
 #[derive(Debug, Clone, Copy)]
 struct Pending {
     ray: Ray,
+    depth: u32,
     weight: f32,
     id: SampleId,
     node: u32,
@@ -104,8 +105,11 @@ struct Traced {
 pub(crate) struct Wave {
     nodes: Vec<Node>,
     chunks: Vec<Traced>,
-    /// The deferred rays, by depth.
-    deferred: Vec<Vec<Pending>>,
+    /// The deferred rays, of every depth (one vector, so that its memory
+    /// is bounded by the node cap, whatever the depths).
+    deferred: Vec<Pending>,
+    /// The deepest depth a ray was deferred to.
+    deepest: u32,
     /// The order one depth's rays are traced in: key << 31 | index.
     order: Vec<u64>,
 }
@@ -120,7 +124,8 @@ impl Wave {
     fn clear(&mut self) {
         self.nodes.clear();
         self.chunks.clear();
-        self.deferred.iter_mut().for_each(Vec::clear);
+        self.deferred.clear();
+        self.deepest = 0;
     }
 
     /// A new node, its colour and children not yet known.
@@ -174,28 +179,28 @@ impl Wave {
     ) {
         let child = self.add_node();
         self.link(node, kind, child, factor);
-        let depth = depth as usize;
-        if self.deferred.len() <= depth {
-            self.deferred.resize_with(depth + 1, Vec::new);
-        }
-        self.deferred[depth].push(Pending { ray, weight, id, node: child });
+        self.deepest = self.deepest.max(depth);
+        self.deferred.push(Pending { ray, depth, weight, id, node: child });
     }
 
     /// Sort the rays deferred to `depth` into `order` by octant and
     /// origin; false when there are none.
-    fn regroup(&mut self, depth: usize) -> bool {
+    fn regroup(&mut self, depth: u32) -> bool {
         self.order.clear();
-        let Some(level) = self.deferred.get(depth).filter(|l| !l.is_empty()) else { return false };
+        let level = || self.deferred.iter().enumerate().filter(move |(_, p)| p.depth == depth);
         let (mut lo, mut hi) = (Vec3A::INFINITY, Vec3A::NEG_INFINITY);
-        for p in level {
+        for (_, p) in level() {
             (lo, hi) = (lo.min(p.ray.o), hi.max(p.ray.o));
         }
         let extent = hi - lo;
         let scale = Vec3A::select(extent.cmpgt(Vec3A::ZERO), 1023.0 / extent, Vec3A::ZERO);
         // Key above, index below: sorting the words sorts by key, ties in
         // index order.
-        let order = level.iter().enumerate().map(|(i, p)| regroup_key(p.ray, lo, scale) << 31 | i as u64);
+        let order = level().map(|(i, p)| regroup_key(p.ray, lo, scale) << 31 | i as u64);
         self.order.extend(order);
+        if self.order.is_empty() {
+            return false;
+        }
         self.order.sort_unstable();
         true
     }
@@ -314,26 +319,25 @@ impl Whitted<'_> {
     /// resolve every node's radiance.
     fn finish_wave<I: Intersector>(&self, th: &mut ThreadState<I>, wave: &mut Wave) {
         let mut depth = 2;
-        while depth < wave.deferred.len() {
+        while depth <= wave.deepest {
             if wave.regroup(depth) {
-                let (level, order) =
-                    (std::mem::take(&mut wave.deferred[depth]), std::mem::take(&mut wave.order));
+                let order = std::mem::take(&mut wave.order);
                 for group in order.chunks(LANES) {
                     let (mut o, mut d) = ([Lanes::ZERO; 3], [Lanes::ZERO; 3]);
                     let mut weights = Lanes::ZERO;
                     let mut ids = [SampleId { px: 0, py: 0, index: 0 }; LANES];
                     let mut radiance = LaneRadiance::default();
                     for (i, &k) in group.iter().enumerate() {
-                        let p = &level[(k & INDEX_MASK) as usize];
+                        let p = &wave.deferred[(k & INDEX_MASK) as usize];
                         set_lane(&mut o, i, p.ray.o);
                         set_lane(&mut d, i, p.ray.d);
                         (weights.0[i], ids[i], radiance.node[i]) = (p.weight, p.id, p.node);
                         radiance.waiting |= 1 << i;
                     }
                     let packet = RayPacket::from_lanes(&o, &d, first_lanes(group.len()));
-                    self.li_lanes(&packet, &weights, depth as u32, &ids, th, wave, &mut radiance);
+                    self.li_lanes(&packet, &weights, depth, &ids, th, wave, &mut radiance);
                 }
-                (wave.deferred[depth], wave.order) = (level, order);
+                wave.order = order;
             }
             depth += 1;
         }
