@@ -11,9 +11,10 @@
 //! (share × tint), and what each later kind of spawned ray adds, as a
 //! colour already known or as a child node. Once every deferred ray has
 //! been traced, the nodes are resolved from the eye rays down, each adding
-//! its kinds in order, a child's radiance resolved before it is added. These are the sums [`Whitted::li`] makes, in the same
-//! order, on the same values, so every colour is bit for bit the one the
-//! ray-by-ray path gives.
+//! its kinds in order, a child's radiance resolved before it is added.
+//! These are the sums [`Whitted::li`] makes, in the same order, on the
+//! same values, so every colour is bit for bit the one the ray-by-ray path
+//! gives.
 
 use super::packet::LaneRadiance;
 use super::{SampleId, ThreadState, Whitted};
@@ -42,7 +43,7 @@ const KNOWN: u32 = u32::MAX - 1;
 const INDEX_MASK: u64 = (1 << 31) - 1;
 
 /// Eye rays per wave: a wave closes once it holds at least this many.
-pub(crate) const WAVE_EYE_RAYS: usize = 4096;
+const WAVE_EYE_RAYS: usize = 4096;
 
 /// A ray whose colour waits on deferred rays.
 #[derive(Debug, Clone, Copy)]
@@ -398,7 +399,8 @@ mod tests {
                     render(&prepared, &s, &|_, _| {})
                 };
                 let (waves, rays) = (image(true), image(false));
-                let case = format!("spp {spp}, light {light_size}, min weight {min_weight}, spd {spd}, fresnel {fresnel}, lens {aperture:?}");
+                let case = format!("spp {spp}, light {light_size}, min weight {min_weight}, spd {spd}");
+                let case = format!("{case}, fresnel {fresnel}, lens {aperture:?}");
                 assert_eq!(waves.film.pixels, rays.film.pixels, "{case}");
                 assert_eq!(waves.counters.rays(), rays.counters.rays(), "{case}");
             }
