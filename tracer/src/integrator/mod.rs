@@ -77,7 +77,7 @@ impl Default for ShadeSettings {
 }
 
 /// Which sample of which pixel a ray belongs to, for drawing light samples.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct SampleId {
     /// Pixel x.
     pub px: u32,

@@ -41,7 +41,7 @@ impl Whitted<'_> {
         let n = ids.len().min(LANES);
         let mut packet = RayPacket::empty();
         eye_rays(crate::simd::isa(), &self.scene.camera, eye, first_lanes(n), &mut packet);
-        let mut lane_ids = [SampleId { px: 0, py: 0, index: 0 }; LANES];
+        let mut lane_ids = [SampleId::default(); LANES];
         lane_ids[..n].copy_from_slice(&ids[..n]);
         self.li_lanes(&packet, &Lanes([1.0; LANES]), 1, &lane_ids, th, wave, out);
     }
@@ -254,11 +254,13 @@ impl Whitted<'_> {
             return;
         }
         for_lanes(lanes, |i| {
-            if radiance.waiting >> i & 1 != 0 {
+            let waiting = radiance.waiting >> i & 1 != 0;
+            if waiting || *in_node >> i & 1 != 0 {
+                // Its radiance waits, or goes after what waits: a child
+                // node (a leaf when known, seen through the same factor).
                 let node = out.open(i, in_node, wave);
-                wave.link(node, kind, radiance.node[i], factor(i));
-            } else if *in_node >> i & 1 != 0 {
-                wave.add(out.node[i], kind, factor(i) * radiance.color[i]);
+                let child = if waiting { radiance.node[i] } else { wave.add_node(radiance.color[i]) };
+                wave.link(node, kind, child, factor(i));
             } else {
                 out.color[i] += factor(i) * radiance.color[i];
             }
@@ -287,10 +289,11 @@ impl LaneRadiance {
     fn open(&mut self, i: usize, in_node: &mut Mask, wave: &mut Wave) -> u32 {
         if *in_node >> i & 1 == 0 {
             if self.waiting >> i & 1 == 0 {
-                self.node[i] = wave.add_node();
+                self.node[i] = wave.add_node(self.color[i]);
                 self.waiting |= 1 << i;
+            } else {
+                wave.set_color(self.node[i], self.color[i]);
             }
-            wave.set_color(self.node[i], self.color[i]);
             *in_node |= 1 << i;
         }
         self.node[i]

@@ -8,13 +8,13 @@
 //!
 //! A ray whose colour waits on a deferred ray becomes a node of the wave:
 //! its colour summed so far, the factor its parent sees it through
-//! (share × tint), and what each later kind of spawned ray adds, as a
-//! colour already known or as a child node. Once every deferred ray has
-//! been traced, the nodes are resolved from the eye rays down, each adding
-//! its kinds in order, a child's radiance resolved before it is added.
-//! These are the sums [`Whitted::li`] makes, in the same order, on the
-//! same values, so every colour is bit for bit the one the ray-by-ray path
-//! gives.
+//! (share × tint), and a child node for each later kind of spawned ray (a
+//! leaf holding the child's radiance where that is known at once). Once
+//! every deferred ray has been traced, the nodes are resolved from the eye
+//! rays down, each adding its kinds in order, a child's radiance resolved
+//! before it is added. These are the sums [`Whitted::li`] makes, in the
+//! same order, on the same values, so every colour is bit for bit the one
+//! the ray-by-ray path gives.
 
 use super::packet::LaneRadiance;
 use super::{SampleId, ThreadState, Whitted};
@@ -25,19 +25,16 @@ use crate::packet::RayPacket;
 use crate::simd::lanes::{first_lanes, for_lanes, set_lane, Lanes, LANES};
 use glam::Vec3A;
 
-/// Nodes a wave may hold before it defers no more rays (with its deferred
-/// rays, about 10 MB a thread; the SPD scenes at 16 to 64 spp need at most
-/// 24,159): past it, scattered rays are traced at once, as small packets,
-/// so that a deep ray tree (a large `--depth` through glass) needs no more
-/// memory than ray by ray. The tests' scenes are small: they reach a
-/// smaller one.
+/// Nodes a wave may hold before it defers no more rays: past it,
+/// scattered rays are traced at once, as small packets, so that a deep ray
+/// tree (a large `--depth` through glass) needs bounded memory (with the
+/// deferred rays, about 7 MB a thread). balls_s4, mount_s7 and gears_s4 at
+/// 16 spp and mount_s7 at 64 spp need at most 32,078. The tests' scenes are
+/// small: they reach a smaller cap.
 const MAX_NODES: usize = if cfg!(test) { 2048 } else { 1 << 16 };
 
 /// A node index meaning none (no node, no child of that kind).
 pub(super) const NO_NODE: u32 = u32::MAX;
-
-/// A child slot holding a colour already known (in `Node::known`).
-const KNOWN: u32 = u32::MAX - 1;
 
 /// The index bits of a [`Wave::order`] entry.
 const INDEX_MASK: u64 = (1 << 31) - 1;
@@ -52,9 +49,7 @@ struct Node {
     color: Vec3A,
     /// What its parent sees its radiance through: share × tint.
     factor: Vec3A,
-    /// What each kind of spawned ray adds where that was known at once.
-    known: [Vec3A; 3],
-    /// Each kind's child node, [`KNOWN`], or [`NO_NODE`].
+    /// Each kind's child node, or [`NO_NODE`].
     child: [u32; 3],
 }
 
@@ -83,12 +78,7 @@ pub(crate) struct EyeChunk {
 
 impl Default for EyeChunk {
     fn default() -> Self {
-        EyeChunk {
-            eye: EyeLanes::default(),
-            ids: [SampleId { px: 0, py: 0, index: 0 }; LANES],
-            weights: [0.0; LANES],
-            n: 0,
-        }
+        EyeChunk { eye: EyeLanes::default(), ids: [SampleId::default(); LANES], weights: [0.0; LANES], n: 0 }
     }
 }
 
@@ -129,12 +119,10 @@ impl Wave {
         self.deepest = 0;
     }
 
-    /// A new node, its colour and children not yet known.
-    pub(super) fn add_node(&mut self) -> u32 {
+    /// A new node of colour `color` so far, its children not yet known.
+    pub(super) fn add_node(&mut self, color: Vec3A) -> u32 {
         let node = self.nodes.len() as u32;
-        let blank =
-            Node { color: Vec3A::ZERO, factor: Vec3A::ONE, known: [Vec3A::ZERO; 3], child: [NO_NODE; 3] };
-        self.nodes.push(blank);
+        self.nodes.push(Node { color, factor: Vec3A::ONE, child: [NO_NODE; 3] });
         node
     }
 
@@ -148,13 +136,6 @@ impl Wave {
     #[inline]
     pub(super) fn set_color(&mut self, node: u32, color: Vec3A) {
         self.nodes[node as usize].color = color;
-    }
-
-    /// `node`'s spawned ray of `kind` adds `color`, known now.
-    #[inline]
-    pub(super) fn add(&mut self, node: u32, kind: usize, color: Vec3A) {
-        let n = &mut self.nodes[node as usize];
-        (n.known[kind], n.child[kind]) = (color, KNOWN);
     }
 
     /// `node`'s spawned ray of `kind` is the node `child`, seen through
@@ -178,7 +159,7 @@ impl Wave {
         factor: Vec3A,
         id: SampleId,
     ) {
-        let child = self.add_node();
+        let child = self.add_node(Vec3A::ZERO);
         self.link(node, kind, child, factor);
         self.deepest = self.deepest.max(depth);
         self.deferred.push(Pending { ray, depth, weight, id, node: child });
@@ -221,15 +202,9 @@ impl Wave {
     fn resolve_node(&mut self, node: u32) -> Vec3A {
         let n = self.nodes[node as usize];
         let mut color = n.color;
-        for (kind, &c) in n.child.iter().enumerate() {
-            match c {
-                NO_NODE => {}
-                KNOWN => color += n.known[kind],
-                c => {
-                    let radiance = self.resolve_node(c);
-                    color += self.nodes[c as usize].factor * radiance;
-                }
-            }
+        for c in n.child.into_iter().filter(|&c| c != NO_NODE) {
+            let radiance = self.resolve_node(c);
+            color += self.nodes[c as usize].factor * radiance;
         }
         self.nodes[node as usize].color = color;
         color
@@ -326,7 +301,7 @@ impl Whitted<'_> {
                 for group in order.chunks(LANES) {
                     let (mut o, mut d) = ([Lanes::ZERO; 3], [Lanes::ZERO; 3]);
                     let mut weights = Lanes::ZERO;
-                    let mut ids = [SampleId { px: 0, py: 0, index: 0 }; LANES];
+                    let mut ids = [SampleId::default(); LANES];
                     let mut radiance = LaneRadiance::default();
                     for (i, &k) in group.iter().enumerate() {
                         let p = &wave.deferred[(k & INDEX_MASK) as usize];
