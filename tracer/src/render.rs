@@ -18,6 +18,7 @@ use crate::stopwatch::Stopwatch;
 use glam::{Vec2, Vec3A};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Mutex, PoisonError};
 
 /// Tile side in pixels.
 pub const TILE: u32 = 16;
@@ -402,7 +403,13 @@ pub(crate) fn resolve(sum: Vec3A, weights: f32, spp: u32) -> Vec3A {
     }
 }
 
-type TileResult = (u32, Vec<Vec3A>, Vec<u64>, Counters);
+/// What the tiles write into as they finish: the whole raster's colours,
+/// their costs when asked for, and the counts.
+struct Canvas {
+    pixels: Vec<Vec3A>,
+    cost: Vec<u64>,
+    counters: Counters,
+}
 
 /// Side of the pixel blocks a tile's points are ordered in when packets
 /// are on: 4x4 fills one packet of [`LANES`] pixel-centre rays.
@@ -428,14 +435,23 @@ fn run_tiles<I: Intersector>(
     let tiles_y = grid.height.div_ceil(TILE);
     let total = (tiles_x * tiles_y) as usize;
     let done = AtomicUsize::new(0);
-    let results: Vec<TileResult> = (0..tiles_x * tiles_y)
+    // Each tile's colours go straight into the raster's (a few hundred
+    // stores under a lock no other tile holds for long), so the tiles'
+    // own buffers are freed and reused as they finish.
+    let n = (grid.width * grid.height) as usize;
+    let canvas = Mutex::new(Canvas {
+        pixels: vec![Vec3A::ZERO; n],
+        cost: if want_cost { vec![0; n] } else { Vec::new() },
+        counters: Counters::default(),
+    });
+    (0..tiles_x * tiles_y)
         .into_par_iter()
         // One tile per job, so an idle thread can always take the next
         // (rayon otherwise cuts the range into a few long runs, and a run of
         // costly tiles leaves one thread working alone); the thread state is
         // then made per tile, a few small allocations per 256 pixels.
         .with_max_len(1)
-        .map_init(
+        .for_each_init(
             || ThreadState {
                 tracer: Tracer::new(accel, &scene.geometry),
                 shadow_cache: ShadowCache::new(scene.lights.len(), max_depth, shadow_cache),
@@ -444,13 +460,10 @@ fn run_tiles<I: Intersector>(
                 th.shadow_cache.clear();
                 let (tx, ty) = (tile % tiles_x * TILE, tile / tiles_x * TILE);
                 let (x1, y1) = ((tx + TILE).min(grid.width), (ty + TILE).min(grid.height));
-                let tw = (x1 - tx) as usize;
-                let mut colors = vec![Vec3A::ZERO; tw * (y1 - ty) as usize];
-                let mut costs = vec![0u64; if want_cost { colors.len() } else { 0 }];
                 // The tile's points, 4x4 blocks one after another with
                 // packets (so that each chunk of LANES pixel centres is a
                 // block), else row by row.
-                let mut pts = Vec::with_capacity(colors.len());
+                let mut pts = Vec::with_capacity(((x1 - tx) * (y1 - ty)) as usize);
                 for by in (ty..y1).step_by(block as usize) {
                     for bx in (tx..x1).step_by(block as usize) {
                         for y in by..(by + block).min(y1) {
@@ -458,43 +471,37 @@ fn run_tiles<I: Intersector>(
                         }
                     }
                 }
-                let at = |(x, y): (u32, u32)| (y - grid.y0 - ty) as usize * tw + (x - grid.x0 - tx) as usize;
+                let mut colors = vec![Vec3A::ZERO; pts.len()];
+                let mut costs = vec![0u64; if want_cost { pts.len() } else { 0 }];
                 if want_cost {
-                    for &pt in &pts {
+                    for (k, &pt) in pts.iter().enumerate() {
                         let work = th.tracer.counters.work();
-                        f(&[pt], th, std::slice::from_mut(&mut colors[at(pt)]));
-                        costs[at(pt)] = th.tracer.counters.work() - work;
+                        f(&[pt], th, std::slice::from_mut(&mut colors[k]));
+                        costs[k] = th.tracer.counters.work() - work;
                     }
                 } else {
-                    let mut out = vec![Vec3A::ZERO; pts.len()];
-                    f(&pts, th, &mut out);
-                    for (&pt, &c) in pts.iter().zip(&out) {
-                        colors[at(pt)] = c;
-                    }
+                    f(&pts, th, &mut colors);
                 }
                 // Each tile takes its thread's counters, leaving them zeroed.
                 let tile_counters = std::mem::take(&mut th.tracer.counters);
+                let at = |(x, y): (u32, u32)| {
+                    (y - grid.y0) as usize * grid.width as usize + (x - grid.x0) as usize
+                };
+                {
+                    let mut c = canvas.lock().unwrap_or_else(PoisonError::into_inner);
+                    for (&pt, &color) in pts.iter().zip(&colors) {
+                        c.pixels[at(pt)] = color;
+                    }
+                    // (No costs unless asked for.)
+                    for (&pt, &cost) in pts.iter().zip(&costs) {
+                        c.cost[at(pt)] = cost;
+                    }
+                    c.counters += tile_counters;
+                }
                 let n = done.fetch_add(1, Ordering::Relaxed) + 1;
                 progress(n, total);
-                (tile, colors, costs, tile_counters)
             },
-        )
-        .collect();
-    let mut pixels = vec![Vec3A::ZERO; (grid.width * grid.height) as usize];
-    let mut cost = if want_cost { vec![0u64; pixels.len()] } else { Vec::new() };
-    let mut counters = Counters::default();
-    for (tile, colors, costs, c) in results {
-        let (tx, ty) = (tile % tiles_x * TILE, tile / tiles_x * TILE);
-        let x1 = (tx + TILE).min(grid.width);
-        let tw = (x1 - tx) as usize;
-        let at = |i: usize| (ty as usize + i / tw) * grid.width as usize + tx as usize + i % tw;
-        for (i, col) in colors.into_iter().enumerate() {
-            pixels[at(i)] = col;
-        }
-        for (i, cst) in costs.into_iter().enumerate() {
-            cost[at(i)] = cst;
-        }
-        counters += c;
-    }
+        );
+    let Canvas { pixels, cost, counters } = canvas.into_inner().unwrap_or_else(PoisonError::into_inner);
     (pixels, want_cost.then_some(cost), counters)
 }
