@@ -111,6 +111,17 @@ thread_local! {
 }
 
 impl Wave {
+    /// Room for a full wave, asked for once a thread: vectors grown by
+    /// doubling copy themselves into fresh pages, each a fault on first
+    /// touch, while room reserved and not yet used costs none.
+    fn reserve(&mut self) {
+        if self.nodes.capacity() < MAX_NODES {
+            self.nodes.reserve_exact(MAX_NODES);
+            self.deferred.reserve_exact(MAX_NODES);
+            self.order.reserve_exact(MAX_NODES);
+        }
+    }
+
     /// Forget the last wave.
     fn clear(&mut self) {
         self.nodes.clear();
@@ -257,6 +268,7 @@ impl Whitted<'_> {
         mut take: impl FnMut(usize, &[f32], &[Vec3A]),
     ) {
         let mut wave = SPARE.take();
+        wave.reserve();
         let mut chunk = EyeChunk::default();
         let mut first = 0;
         while first < count {
