@@ -246,10 +246,7 @@ pub(crate) fn trace_chunks<I: Intersector>(
         aim(c, &mut chunk);
         let n = chunk.n.min(LANES);
         th.tracer.counters.eye += n as u64;
-        for (i, color) in colors[..n].iter_mut().enumerate() {
-            let (ray, t_min) = chunk.eye.ray(i, &shader.scene.camera);
-            *color = shader.li(ray, t_min, 1, 1.0, chunk.ids[i], th);
-        }
+        shader.li_eyes_by_ray(&chunk, th, &mut colors[..n]);
         take(c, &chunk.weights[..n], &colors[..n]);
     }
 }

@@ -295,12 +295,25 @@ impl Whitted<'_> {
         th.tracer.counters.eye += n as u64;
         let mut radiance = LaneRadiance::default();
         if n == 1 {
-            let (ray, t_min) = chunk.eye.ray(0, &self.scene.camera);
-            radiance.color[0] = self.li(ray, t_min, 1, 1.0, chunk.ids[0], th);
+            self.li_eyes_by_ray(chunk, th, &mut radiance.color[..1]);
         } else {
             self.li_eye_packet(&chunk.eye, &chunk.ids[..n], th, wave, &mut radiance);
         }
         wave.chunks.push(Traced { radiance, weights: chunk.weights, n });
+    }
+
+    /// Radiance along the eye rays of `chunk`'s first `out.len()` lanes,
+    /// ray by ray, into `out`.
+    pub(crate) fn li_eyes_by_ray<I: Intersector>(
+        &self,
+        chunk: &EyeChunk,
+        th: &mut ThreadState<I>,
+        out: &mut [Vec3A],
+    ) {
+        for (i, color) in out.iter_mut().enumerate() {
+            let (ray, t_min) = chunk.eye.ray(i, &self.scene.camera);
+            *color = self.li(ray, t_min, 1, 1.0, chunk.ids[i], th);
+        }
     }
 
     /// Trace the wave's deferred rays depth by depth, regrouped, then
