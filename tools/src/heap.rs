@@ -10,7 +10,9 @@
 //! - a huge page is one fault where small pages take 512, and on a virtual
 //!   machine a fault can cost microseconds;
 //! - a growing vector's doubling moves its pages instead of copying them
-//!   into fresh ones.
+//!   into fresh ones;
+//! - a freed block's pages, already touched, go to the next big block
+//!   (one spare range is kept).
 //!
 //! The rest of the heap is sparse (a thread's pages are partly used), and
 //! the kernel zeroes a huge page whole when it is first touched, so mimalloc
@@ -31,6 +33,7 @@ pub const BIG: usize = 4 << 20;
 #[allow(unsafe_code)]
 mod mapped {
     use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Mutex;
 
     /// A huge page: mappings start on one and are whole numbers of them,
     /// so every part of a block may be one.
@@ -41,6 +44,18 @@ mod mapped {
     const EXCEPT_ADVISED: libc::c_ulong = 1 << 1;
 
     static ADVISED_ONLY: AtomicBool = AtomicBool::new(false);
+
+    /// The spare pages of freed blocks, handed to the next block that
+    /// fits: they are touched already, so reusing them costs no faults (a
+    /// scene's freed primitives become its BVH).
+    pub static SPARE: Spare = Spare::new();
+
+    /// The most spare memory kept.
+    const SPARE_MAX: usize = 128 << 20;
+
+    /// One range of spare pages, `(address, length)`: the larger of the
+    /// last two freed blocks, at most [`SPARE_MAX`] bytes.
+    pub struct Spare(Mutex<(usize, usize)>);
 
     /// Whole huge pages covering `size` bytes.
     pub fn length(size: usize) -> usize {
@@ -116,6 +131,54 @@ mod mapped {
     pub unsafe fn unmap(p: *mut u8, len: usize) {
         libc::munmap(p.cast(), len);
     }
+
+    impl Spare {
+        pub const fn new() -> Spare {
+            Spare(Mutex::new((0, 0)))
+        }
+
+        /// A block of `len` bytes (not zeroed): the spare pages' first part
+        /// where they are enough (the rest stays spare), else the spare range
+        /// grown, else a fresh mapping; null when there is no memory.
+        pub unsafe fn take(&self, len: usize) -> *mut u8 {
+            let mut range = self.0.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+            let (at, have) = *range;
+            if have >= len {
+                *range = if have > len { (at + len, have - len) } else { (0, 0) };
+                return at as *mut u8;
+            }
+            *range = (0, 0);
+            drop(range);
+            if have == 0 {
+                return map(len);
+            }
+            let p = remap(at as *mut u8, have, len);
+            if p.is_null() {
+                unmap(at as *mut u8, have);
+            }
+            p
+        }
+
+        /// Free the block at `p`, `len` bytes long: its pages become the spare
+        /// range if they are more than it holds (and not too many), else go
+        /// back to the kernel.
+        pub unsafe fn free(&self, p: *mut u8, len: usize) {
+            if len > SPARE_MAX {
+                return unmap(p, len);
+            }
+            let mut range = self.0.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+            let (at, have) = *range;
+            if len <= have {
+                drop(range);
+                return unmap(p, len);
+            }
+            *range = (p as usize, len);
+            drop(range);
+            if have > 0 {
+                unmap(at as *mut u8, have);
+            }
+        }
+    }
 }
 
 impl Heap {
@@ -136,7 +199,7 @@ unsafe impl GlobalAlloc for Heap {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         #[cfg(target_os = "linux")]
         if Heap::mapped(layout.size(), layout.align()) {
-            return mapped::map(mapped::length(layout.size()));
+            return mapped::SPARE.take(mapped::length(layout.size()));
         }
         mimalloc::MiMalloc.alloc(layout)
     }
@@ -155,7 +218,7 @@ unsafe impl GlobalAlloc for Heap {
     unsafe fn dealloc(&self, p: *mut u8, layout: Layout) {
         #[cfg(target_os = "linux")]
         if Heap::mapped(layout.size(), layout.align()) {
-            return mapped::unmap(p, mapped::length(layout.size()));
+            return mapped::SPARE.free(p, mapped::length(layout.size()));
         }
         mimalloc::MiMalloc.dealloc(p, layout)
     }
@@ -208,6 +271,41 @@ mod tests {
                 v.len() == keep && v.iter().enumerate().all(|(i, &b)| b == pattern(i)),
                 "shrunk to {keep}"
             );
+        }
+    }
+
+    /// A freed block's pages go to the next blocks that fit, part by
+    /// part; a smaller freed block does not displace a larger spare one; a
+    /// block larger than the spare pages grows them, keeping their bytes.
+    #[cfg(target_os = "linux")]
+    #[test]
+    #[allow(unsafe_code)]
+    fn freed_pages_are_reused() {
+        use super::mapped::{length, Spare};
+        let spare = Spare::new();
+        let (two, four) = (length(1), length(BIG));
+        // SAFETY: each block is written within its length and freed once,
+        // with its length.
+        unsafe {
+            let p = spare.take(four);
+            *p.add(four - 1) = 9;
+            spare.free(p, four);
+            let (a, b) = (spare.take(two), spare.take(two));
+            assert_eq!((a, b), (p, p.add(two)), "the spare pages, part by part");
+            assert_eq!(*b.add(two - 1), 9, "reused, not zeroed");
+            let c = spare.take(two);
+            assert!(c != a && c != b, "a fresh mapping once they are used");
+            spare.free(b, two);
+            spare.free(c, two);
+            assert_eq!(spare.take(two), b, "kept over a block no larger");
+            spare.free(b, two);
+            let grown = spare.take(3 * two);
+            assert_eq!(*grown.add(two - 1), 9, "the spare pages grown");
+            *grown.add(3 * two - 1) = 1;
+            spare.free(a, two);
+            spare.free(grown, 3 * two);
+            assert_eq!(spare.take(3 * two), grown, "a larger block displaces the spare one");
+            super::mapped::unmap(grown, 3 * two);
         }
     }
 
