@@ -248,7 +248,7 @@ unsafe impl GlobalAlloc for Heap {
 mod tests {
     use super::BIG;
 
-    /// Bytes `i` of a block: a pattern no two neighbouring pages share.
+    /// Byte `i` of a block: a pattern no two neighbouring pages share.
     fn pattern(i: usize) -> u8 {
         (i % 251) as u8
     }
