@@ -128,6 +128,7 @@ mod mapped {
         q.cast()
     }
 
+    /// Give the `len` bytes at `p` back to the kernel.
     pub unsafe fn unmap(p: *mut u8, len: usize) {
         libc::munmap(p.cast(), len);
     }
