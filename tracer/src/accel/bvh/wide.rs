@@ -64,9 +64,58 @@ const SAH_COST_RUN: usize = 1 << 12;
 /// Binary nodes larger than this have their subtrees built in parallel.
 const PARALLEL_BUILD: usize = 1 << 14;
 
-/// Part of the node array, built on one thread: its interior links count
-/// from its own first node.
-type Part = Vec<Node4>;
+/// Part of the node array, built on one thread: its place in the
+/// [`Arena`]; its interior links count from its own first node.
+type Part = std::ops::Range<usize>;
+
+/// The parts, laid end to end as they are finished (in any order), until
+/// [`concat`] gathers them in the tree's order. A part is built in its
+/// thread's scratch vector, which stays in cache and keeps its pages from
+/// one part to the next, and is then copied here: one array for all the
+/// parts, whose pages a large scene's freed arrays provide, instead of
+/// fresh pages for each part.
+struct Arena(std::sync::Mutex<Vec<Node4>>);
+
+impl Arena {
+    /// An arena with room for `nodes` nodes (it grows past them).
+    fn new(nodes: usize) -> Arena {
+        Arena(std::sync::Mutex::new(Vec::with_capacity(nodes)))
+    }
+
+    /// `nodes` copied to the end: their place.
+    fn push(&self, nodes: &[Node4]) -> Part {
+        let mut arena = self.0.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        let start = arena.len();
+        arena.extend_from_slice(nodes);
+        start..arena.len()
+    }
+
+    /// The subtree below split node `two` as [`fill`] lays it out, built in
+    /// this thread's scratch vector and copied here: its root and its part.
+    fn fill(
+        &self,
+        prims: &mut [BuildPrim],
+        ids: &mut [u32],
+        offset: usize,
+        two: [Binary; 2],
+    ) -> (Node4, Part) {
+        thread_local! {
+            static SCRATCH: std::cell::RefCell<Vec<Node4>> = const { std::cell::RefCell::new(Vec::new()) };
+        }
+        SCRATCH.with(|scratch| {
+            // (`fill` calls nothing that could take the scratch again.)
+            let mut out = scratch.borrow_mut();
+            out.clear();
+            let root = fill(prims, ids, offset, two, &mut out);
+            (root, self.push(&out))
+        })
+    }
+
+    /// The nodes.
+    fn into_nodes(self) -> Vec<Node4> {
+        self.0.into_inner().unwrap_or_else(|poisoned| poisoned.into_inner())
+    }
+}
 
 impl Node4 {
     /// No children: every box empty.
@@ -94,23 +143,25 @@ impl Node4 {
         let root = Binary::root(&prims);
         // Every primitive is in one leaf, which writes its id.
         let mut ids = vec![0; prims.len()];
-        let parts = match parts(&mut prims, &mut ids, 0, root, parallel) {
+        // (A sphere scene has about one node for six primitives.)
+        let arena = Arena::new(prims.len() / 4 + 1);
+        let parts = match parts(&mut prims, &mut ids, 0, root, parallel, &arena) {
             // The root first, its links past itself.
             Some((mut top, below)) => {
                 top.shift_links(1);
-                std::iter::once(vec![top]).chain(below).collect()
+                std::iter::once(arena.push(&[top])).chain(below).collect()
             }
             None => {
                 let mut node = Node4::EMPTY;
                 node.set_leaf(0, &root, 0);
                 build::write_ids(&prims, &mut ids);
-                vec![vec![node]]
+                vec![arena.push(&[node])]
             }
         };
         // Freed before the nodes are gathered: the gathered array may then
         // reuse its pages instead of new ones.
         drop(prims);
-        (concat(parts), ids)
+        (concat(&arena.into_nodes(), parts), ids)
     }
 
     /// Slot `slot` holds `b`'s box, and `child` and `count` as [`Entry`]
@@ -195,7 +246,13 @@ impl Kids {
 /// leaf links are `offset` plus positions in `prims`, and the leaves write
 /// their primitives' ids to `ids`, the id array's part at the same
 /// positions as `prims`.
-fn fill(prims: &mut [BuildPrim], ids: &mut [u32], offset: usize, two: [Binary; 2], out: &mut Part) -> Node4 {
+fn fill(
+    prims: &mut [BuildPrim],
+    ids: &mut [u32],
+    offset: usize,
+    two: [Binary; 2],
+    out: &mut Vec<Node4>,
+) -> Node4 {
     let kids = Kids::open(prims, two);
     let mut wide = Node4::EMPTY;
     // The interior children's slots and splits, in slot order.
@@ -240,12 +297,12 @@ fn parts(
     offset: usize,
     node: Binary,
     parallel: usize,
+    arena: &Arena,
 ) -> Option<Subtree> {
     let two = node.split(prims)?;
     if node.len() <= parallel {
-        let mut out = Vec::with_capacity(node.len() / 2 + 1);
-        let root = fill(prims, ids, offset, two, &mut out);
-        return Some((root, vec![out]));
+        let (root, part) = arena.fill(prims, ids, offset, two);
+        return Some((root, vec![part]));
     }
     let kids = Kids::open(prims, two);
     let nodes = &kids.nodes[..kids.len];
@@ -267,7 +324,7 @@ fn parts(
     let subtrees: Vec<_> = jobs
         .into_par_iter()
         .map(|(slot, mine, my_ids, at, k, leaf)| {
-            let sub = if leaf { None } else { parts(mine, my_ids, at, k, parallel) };
+            let sub = if leaf { None } else { parts(mine, my_ids, at, k, parallel, arena) };
             if sub.is_none() {
                 build::write_ids(mine, my_ids);
             }
@@ -292,22 +349,24 @@ fn parts(
         wide.set(slot, k, roots.len() as u32, 0);
         root.shift_links(placed);
         roots.push(root);
-        placed += sub.iter().map(Vec::len).sum::<usize>() as u32;
+        placed += sub.iter().map(|p| p.len()).sum::<usize>() as u32;
         below.extend(sub);
     }
-    let mut out = vec![roots];
+    let mut out = vec![arena.push(&roots)];
     out.extend(below);
     Some((wide, out))
 }
 
-/// The parts in one array, their interior links made absolute: each node
-/// is copied once, however many levels were built in parallel.
-fn concat(parts: Vec<Part>) -> Vec<Node4> {
-    let mut nodes = Vec::with_capacity(parts.iter().map(Vec::len).sum());
+/// The parts of `arena` in one array in the order of `parts`, their
+/// interior links made absolute: each node is copied once, however many
+/// levels were built in parallel.
+fn concat(arena: &[Node4], parts: Vec<Part>) -> Vec<Node4> {
+    let mut nodes = Vec::with_capacity(parts.iter().map(|p| p.len()).sum());
     for part in parts {
         let base = nodes.len() as u32;
         // (Copied on all cores, in order: the nodes do not depend on it.)
-        nodes.par_extend(part.into_par_iter().map(|mut n| {
+        nodes.par_extend(arena[part].par_iter().map(|&n| {
+            let mut n = n;
             n.shift_links(base);
             n
         }));
