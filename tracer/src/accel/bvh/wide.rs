@@ -71,9 +71,10 @@ type Part = std::ops::Range<usize>;
 /// The parts, laid end to end as they are finished (in any order), until
 /// [`concat`] gathers them in the tree's order. A part is built in its
 /// thread's scratch vector, which stays in cache and keeps its pages from
-/// one part to the next, and is then copied here: one array for all the
-/// parts, whose pages a large scene's freed arrays provide, instead of
-/// fresh pages for each part.
+/// one part to the next, and is then copied here: one big block for all
+/// the parts instead of fresh pages for each (the tools' allocator hands a
+/// big block the pages of big blocks freed before it, such as the file's
+/// primitives).
 struct Arena(std::sync::Mutex<Vec<Node4>>);
 
 impl Arena {
