@@ -4,10 +4,12 @@
 //! never start with a letter and comments start with `#`), each chunk is
 //! read on its own thread as a fragment, and the parts are joined.
 //!
-//! What a chunk cannot know is what came before it: the current material and
-//! whether objects were already seen. Materials are renumbered at the join
-//! (a primitive before its chunk's first `f` takes the previous chunk's
-//! last material). Everything that would make the reader *say* something
+//! What a chunk cannot know is what came before it: the current material,
+//! whether objects were already seen, and the line it starts on. Materials
+//! are renumbered at the join (a primitive before its chunk's first `f`
+//! takes the previous chunk's last material), and lines moved on by the
+//! line breaks of the chunks before (each chunk counts its own, on its
+//! own thread). Everything that would make the reader *say* something
 //! that depends on earlier chunks (a light or view after the first object,
 //! a second view, a second `env`, `spp` or `accel`, no view at all), and
 //! any diagnostic at all, sends the file back to the sequential reader, so
@@ -38,34 +40,45 @@ pub(super) fn parse_in_chunks(src: &[u8], opts: &ParseOptions, chunks: usize) ->
     if starts.len() < 2 {
         return None;
     }
-    // The line each chunk starts on.
-    let mut lines = Vec::with_capacity(starts.len());
-    let mut line = 1u32;
-    let mut prev = 0;
-    for &s in &starts {
-        line += line_breaks(&src[prev..s]);
-        lines.push(line);
-        prev = s;
-    }
     let ends = starts.iter().skip(1).copied().chain(std::iter::once(src.len()));
-    let pieces: Vec<(&[u8], u32)> = starts.iter().zip(ends).map(|(&a, b)| &src[a..b]).zip(lines).collect();
-    let parts: Vec<(Scene, bool)> = std::thread::scope(|scope| {
+    let pieces: Vec<&[u8]> = starts.iter().zip(ends).map(|(&a, b)| &src[a..b]).collect();
+    let parts: Vec<Part> = std::thread::scope(|scope| {
         let handles: Vec<_> = pieces
             .iter()
             .enumerate()
-            .map(|(i, &(piece, line))| {
+            .map(|(i, &piece)| {
                 // The first chunk's list becomes the whole file's (see
                 // `join`), so it is given room for all of it.
                 let room = primitives_hint(piece, if i == 0 { src.len() } else { piece.len() });
                 scope.spawn(move || {
-                    let (scene, diags) = parse_chunk(piece, line, opts, room);
-                    (scene, diags.is_empty())
+                    // Read as if it began the file; `join` moves its lines
+                    // on by the lines before it, which each chunk counts
+                    // in its own piece once it is read (its pages are then
+                    // mapped and in cache).
+                    let (scene, diags) = parse_chunk(piece, 1, opts, room);
+                    Part { scene, quiet: diags.is_empty(), lines: line_breaks(piece) }
                 })
             })
             .collect();
-        handles.into_iter().map(|h| h.join().unwrap_or_else(|_| (Scene::default(), false))).collect()
+        handles.into_iter().map(|h| h.join().unwrap_or_else(|_| Part::failed())).collect()
     });
     join(parts, opts)
+}
+
+/// A chunk read on its own, as if it began the file.
+struct Part {
+    scene: Scene,
+    /// Whether the reader said nothing about it.
+    quiet: bool,
+    /// The line breaks in it: the chunk after it starts that many lines on.
+    lines: u32,
+}
+
+impl Part {
+    /// A chunk whose reading failed: the join gives up on it.
+    fn failed() -> Part {
+        Part { scene: Scene::default(), quiet: false, lines: 0 }
+    }
 }
 
 /// Byte offsets where chunks start: 0, then one near each `len/chunks`
@@ -103,20 +116,23 @@ fn next_entity_line(src: &[u8], from: usize) -> Option<usize> {
 /// Join chunk scenes in order, or `None` if the sequential reader would
 /// have said something the chunks could not (module doc), or the joined
 /// list cannot be had (the sequential reader then grows its own).
-fn join(parts: Vec<(Scene, bool)>, opts: &ParseOptions) -> Option<Parsed> {
-    let total = parts.iter().map(|(p, _)| p.primitives.len()).sum::<usize>();
+fn join(parts: Vec<Part>, opts: &ParseOptions) -> Option<Parsed> {
+    let total = parts.iter().map(|p| p.scene.primitives.len()).sum::<usize>();
     let mut parts = parts.into_iter();
     // The first chunk is the scene so far (its materials need no
-    // renumbering); its list grows in place to hold every primitive, so the
-    // join copies only the later chunks, each once.
-    let (mut scene, quiet) = parts.next()?;
+    // renumbering, its lines are the file's); its list grows in place to
+    // hold every primitive, so the join copies only the later chunks, each
+    // once.
+    let Part { mut scene, quiet, lines } = parts.next()?;
     if !quiet {
         return None;
     }
+    // Lines before the chunk being joined.
+    let mut before = lines;
     if scene.primitives.try_reserve_exact(total - scene.primitives.len()).is_err() {
         return None;
     }
-    for (part, quiet) in parts {
+    for Part { scene: part, quiet, lines } in parts {
         let objects_before = !scene.primitives.is_empty();
         if !quiet
             || (part.view.is_some() && (scene.view.is_some() || objects_before))
@@ -129,12 +145,17 @@ fn join(parts: Vec<(Scene, bool)>, opts: &ParseOptions) -> Option<Parsed> {
         }
         let offset = scene.materials.len() as u32;
         let inherited = offset.checked_sub(1);
+        // (Lines past 2^32 are left to the sequential reader.)
+        let after = before.checked_add(lines)?;
+        before.checked_add(part.primitives.last().map_or(0, |p| p.line.0))?;
         // Copied on every core: the copy's cost is mostly the kernel
         // handing out fresh pages, which both cores can do at once.
         scene.primitives.par_extend(part.primitives.into_par_iter().map(|mut p| {
             p.material = p.material.map(|m| m + offset).or(inherited);
+            p.line.0 += before;
             p
         }));
+        before = after;
         // (The part's own list is freed here, before the next is copied.)
         scene.materials.extend(part.materials);
         scene.lights.extend(part.lights);
