@@ -399,8 +399,12 @@ pub(crate) fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_s
             }
         }
     }
-    g.info = Vec::with_capacity(info.iter().map(Vec::len).sum());
-    for kind in info {
+    // The first kind's list grows to hold the others (a big list grows in
+    // place, where a fresh one would be a copy into new pages).
+    let [first, rest @ ..] = info;
+    g.info = first;
+    g.info.reserve_exact(rest.iter().map(Vec::len).sum());
+    for kind in rest {
         g.info.extend(kind);
     }
     g.any_cull = g.info.iter().any(|i| i.cull != Cull::None);
