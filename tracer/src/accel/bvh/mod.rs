@@ -1,8 +1,10 @@
 //! A bounding volume hierarchy, one folder per form (as obvhs lays it out):
 //! `build` decides the binary binned-SAH tree node by node, `wide` opens
-//! those nodes straight into the 4-wide nodes that traversal uses, and this
-//! file holds the traversal. Arrows run one way: `mod → wide → build`.
+//! those nodes straight into the 4-wide nodes that traversal uses (its
+//! parts built on all cores wait in an `arena`), and this file holds the
+//! traversal. Arrows run one way: `mod → wide → build`, `wide → arena`.
 
+mod arena;
 mod build;
 mod packet;
 mod wide;

@@ -12,6 +12,7 @@
 //! have empty boxes (min = +inf, max = −inf), which the slab test never hits
 //! because near and far planes are chosen by the sign of 1/d.
 
+use super::arena::Arena;
 use super::build::{self, Binary, BuildPrim};
 use crate::aabb::{ENTRY_SLACK, SLAB_WIDEN};
 use crate::geometry::Geometry;
@@ -68,55 +69,9 @@ const PARALLEL_BUILD: usize = 1 << 14;
 /// [`Arena`]; its interior links count from its own first node.
 type Part = std::ops::Range<usize>;
 
-/// The parts, laid end to end as they are finished (in any order), until
-/// [`concat`] gathers them in the tree's order. A part is built in its
-/// thread's scratch vector, which stays in cache and keeps its pages from
-/// one part to the next, and is then copied here: one big block for all
-/// the parts instead of fresh pages for each (the tools' allocator hands a
-/// big block the pages of big blocks freed before it, such as the file's
-/// primitives).
-struct Arena(std::sync::Mutex<Vec<Node4>>);
-
-impl Arena {
-    /// An arena with room for `nodes` nodes (it grows past them).
-    fn new(nodes: usize) -> Arena {
-        Arena(std::sync::Mutex::new(Vec::with_capacity(nodes)))
-    }
-
-    /// `nodes` copied to the end: their place.
-    fn push(&self, nodes: &[Node4]) -> Part {
-        let mut arena = self.0.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
-        let start = arena.len();
-        arena.extend_from_slice(nodes);
-        start..arena.len()
-    }
-
-    /// The subtree below split node `two` as [`fill`] lays it out, built in
-    /// this thread's scratch vector and copied here: its root and its part.
-    fn fill(
-        &self,
-        prims: &mut [BuildPrim],
-        ids: &mut [u32],
-        offset: usize,
-        two: [Binary; 2],
-    ) -> (Node4, Part) {
-        thread_local! {
-            static SCRATCH: std::cell::RefCell<Vec<Node4>> = const { std::cell::RefCell::new(Vec::new()) };
-        }
-        SCRATCH.with(|scratch| {
-            // (`fill` calls nothing that could take the scratch again.)
-            let mut out = scratch.borrow_mut();
-            out.clear();
-            let root = fill(prims, ids, offset, two, &mut out);
-            (root, self.push(&out))
-        })
-    }
-
-    /// The nodes.
-    fn into_nodes(self) -> Vec<Node4> {
-        self.0.into_inner().unwrap_or_else(|poisoned| poisoned.into_inner())
-    }
-}
+/// The parts of the node array as they are finished, until [`concat`]
+/// gathers them in the tree's order.
+type Parts = Arena<Node4>;
 
 impl Node4 {
     /// No children: every box empty.
@@ -145,7 +100,7 @@ impl Node4 {
         // Every primitive is in one leaf, which writes its id.
         let mut ids = vec![0; prims.len()];
         // (A sphere scene has about one node for six primitives.)
-        let arena = Arena::new(prims.len() / 4 + 1);
+        let arena = Parts::new(prims.len() / 4 + 1);
         let parts = match parts(&mut prims, &mut ids, 0, root, parallel, &arena) {
             // The root first, its links past itself.
             Some((mut top, below)) => {
@@ -162,7 +117,7 @@ impl Node4 {
         // Freed before the nodes are gathered: the gathered array may then
         // reuse its pages instead of new ones.
         drop(prims);
-        (concat(&arena.into_nodes(), parts), ids)
+        (concat(&arena.into_items(), parts), ids)
     }
 
     /// Slot `slot` holds `b`'s box, and `child` and `count` as [`Entry`]
@@ -298,11 +253,11 @@ fn parts(
     offset: usize,
     node: Binary,
     parallel: usize,
-    arena: &Arena,
+    arena: &Parts,
 ) -> Option<Subtree> {
     let two = node.split(prims)?;
     if node.len() <= parallel {
-        let (root, part) = arena.fill(prims, ids, offset, two);
+        let (root, part) = arena.build(|out| fill(prims, ids, offset, two, out));
         return Some((root, vec![part]));
     }
     let kids = Kids::open(prims, two);
