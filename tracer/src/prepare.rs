@@ -399,8 +399,8 @@ pub(crate) fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_s
             }
         }
     }
-    // The first kind's list grows to hold the others (a big list grows in
-    // place, where a fresh one would be a copy into new pages).
+    // The first kind's list grows to hold the others' instead of all being
+    // copied into a fresh one: a sphere scene's is the only one, not copied.
     let [first, rest @ ..] = info;
     g.info = first;
     g.info.reserve_exact(rest.iter().map(Vec::len).sum());

@@ -50,13 +50,15 @@ pub(super) fn parse_in_chunks(src: &[u8], opts: &ParseOptions, chunks: usize) ->
                 // The first chunk's list becomes the whole file's (see
                 // `join`), so it is given room for all of it.
                 let room = primitives_hint(piece, if i == 0 { src.len() } else { piece.len() });
+                let last = i + 1 == pieces.len();
                 scope.spawn(move || {
                     // Read as if it began the file; `join` moves its lines
-                    // on by the lines before it, which each chunk counts
-                    // in its own piece once it is read (its pages are then
-                    // mapped and in cache).
+                    // on by the lines before it, which each chunk but the
+                    // last counts in its own piece once it is read (its
+                    // pages are then mapped and in cache).
                     let (scene, diags) = parse_chunk(piece, 1, opts, room);
-                    Part { scene, quiet: diags.is_empty(), lines: line_breaks(piece) }
+                    let lines = if last { 0 } else { line_breaks(piece) };
+                    Part { scene, quiet: diags.is_empty(), lines }
                 })
             })
             .collect();
@@ -70,7 +72,8 @@ struct Part {
     scene: Scene,
     /// Whether the reader said nothing about it.
     quiet: bool,
-    /// The line breaks in it: the chunk after it starts that many lines on.
+    /// The line breaks in it (the chunk after it starts that many lines
+    /// on), 0 for the last.
     lines: u32,
 }
 
