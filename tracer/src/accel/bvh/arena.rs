@@ -5,10 +5,10 @@
 //! Each part used to be built in a vector of its own, and each such vector
 //! took fresh pages (a fault each: the heap's small blocks have no huge
 //! pages). A scratch vector keeps its pages and stays in cache from one
-//! part to the next, and the arena is one big block, which the tools'
-//! allocator serves from the pages of big blocks freed before it (the
-//! file's primitives). Everything goes with the arena once the parts are
-//! gathered.
+//! part to the next, and the arena is one block; for a large scene a big
+//! one, which the tools' allocator can serve from the pages of big blocks
+//! freed before it (the file's primitives). Everything goes with the arena
+//! once the parts are gathered.
 
 use std::ops::Range;
 use std::sync::{Mutex, MutexGuard};

@@ -317,12 +317,12 @@ fn parts(
 /// interior links made absolute: each node is copied once, however many
 /// levels were built in parallel.
 fn concat(arena: &[Node4], parts: Vec<Part>) -> Vec<Node4> {
-    let mut nodes = Vec::with_capacity(parts.iter().map(|p| p.len()).sum());
+    // (The parts tile the arena.)
+    let mut nodes = Vec::with_capacity(arena.len());
     for part in parts {
         let base = nodes.len() as u32;
         // (Copied on all cores, in order: the nodes do not depend on it.)
-        nodes.par_extend(arena[part].par_iter().map(|&n| {
-            let mut n = n;
+        nodes.par_extend(arena[part].par_iter().map(|&(mut n)| {
             n.shift_links(base);
             n
         }));
