@@ -53,32 +53,6 @@ fn char_count(bytes: &[u8]) -> u32 {
     bytes.iter().filter(|&&b| b & 0xC0 != 0x80).count() as u32
 }
 
-/// How many lines `bytes` ends (the lexer's rule: LF, CR LF, or a lone
-/// CR). A CR at the very end counts: what follows, if anything, starts a
-/// new line unless it is an LF, which the caller's next chunk would count.
-pub(super) fn line_breaks(bytes: &[u8]) -> u32 {
-    // One pass, in blocks short enough for byte-wide counters, which the
-    // compiler turns into vector compares: LFs counted, CRs noted.
-    let (mut lf, mut cr) = (0u32, 0u8);
-    for block in bytes.chunks(255) {
-        let (mut n, mut r) = (0u8, 0u8);
-        for &b in block {
-            n += u8::from(b == b'\n');
-            r |= u8::from(b == b'\r');
-        }
-        lf += u32::from(n);
-        cr |= r;
-    }
-    if cr == 0 {
-        return lf;
-    }
-    let mut n = 0;
-    for (i, &b) in bytes.iter().enumerate() {
-        n += u32::from(b == b'\n' || (b == b'\r' && bytes.get(i + 1) != Some(&b'\n')));
-    }
-    n
-}
-
 /// The byte offsets where the lines of `src` start, by the lexer's rule.
 pub(super) fn line_starts(src: &[u8]) -> Vec<usize> {
     let mut starts = vec![0];
@@ -111,6 +85,12 @@ impl<'a> Lexer<'a> {
     /// The source being read.
     pub fn source(&self) -> &'a [u8] {
         self.src
+    }
+
+    /// The line the lexer has reached: past the end of its source, the
+    /// first line plus every line break in it.
+    pub fn line(&self) -> u32 {
+        self.line
     }
 
     /// A lexer over `src` that goes on after `t`, a token of `src` (or of
@@ -289,14 +269,6 @@ mod tests {
         let t = tokens("a\rb\r\nc\nd # e\rf");
         let lines: Vec<u32> = t.iter().map(|t| t.1).collect();
         assert_eq!(lines, [1, 2, 3, 4, 5]);
-        assert_eq!(line_breaks(b"a\rb\r\nc\nd"), 3);
-        // Past one counting block: a block of line feeds only, lines
-        // across block boundaries, a CR far from the start.
-        assert_eq!(line_breaks(&[b'\n'; 600]), 600);
-        let lines = "s 0 0 0 1\n".repeat(1000);
-        assert_eq!(line_breaks(lines.as_bytes()), 1000);
-        assert_eq!(line_breaks(format!("{lines}x\ry").as_bytes()), 1001);
-        assert_eq!(line_breaks(format!("{lines}x\r\ny").as_bytes()), 1001);
         assert_eq!(line_starts(b"a\rb\r\nc"), [0, 2, 5]);
     }
 

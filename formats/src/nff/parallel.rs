@@ -8,15 +8,14 @@
 //! whether objects were already seen, and the line it starts on. Materials
 //! are renumbered at the join (a primitive before its chunk's first `f`
 //! takes the previous chunk's last material), and lines moved on by the
-//! line breaks of the chunks before (each chunk counts its own, on its
-//! own thread). Everything that would make the reader *say* something
+//! line breaks of the chunks before (each chunk's lexer counts its own as
+//! it reads). Everything that would make the reader *say* something
 //! that depends on earlier chunks (a light or view after the first object,
 //! a second view, a second `env`, `spp` or `accel`, no view at all), and
 //! any diagnostic at all, sends the file back to the sequential reader, so
 //! the result and the diagnostics are always exactly those of reading it
 //! in one piece. P3F's `mesh` is never cut: its lines hold only numbers.
 
-use super::lexer::line_breaks;
 use super::parse::{parse_chunk, primitives_hint, ParseOptions, Parsed, ENTITY_KEYWORDS};
 use crate::scene::Scene;
 use rayon::prelude::*;
@@ -50,14 +49,10 @@ pub(super) fn parse_in_chunks(src: &[u8], opts: &ParseOptions, chunks: usize) ->
                 // The first chunk's list becomes the whole file's (see
                 // `join`), so it is given room for all of it.
                 let room = primitives_hint(piece, if i == 0 { src.len() } else { piece.len() });
-                let last = i + 1 == pieces.len();
                 scope.spawn(move || {
                     // Read as if it began the file; `join` moves its lines
-                    // on by the lines before it, which each chunk but the
-                    // last counts in its own piece once it is read (its
-                    // pages are then mapped and in cache).
-                    let (scene, diags) = parse_chunk(piece, 1, opts, room);
-                    let lines = if last { 0 } else { line_breaks(piece) };
+                    // on by the lines of the chunks before it.
+                    let (scene, diags, lines) = parse_chunk(piece, 1, opts, room);
                     Part { scene, quiet: diags.is_empty(), lines }
                 })
             })
@@ -73,7 +68,7 @@ struct Part {
     /// Whether the reader said nothing about it.
     quiet: bool,
     /// The line breaks in it (the chunk after it starts that many lines
-    /// on), 0 for the last.
+    /// on), counted when it is quiet.
     lines: u32,
 }
 

@@ -50,6 +50,28 @@ fn chunks_give_the_sequential_scene_exactly() {
     assert!(!one.diagnostics.is_empty());
 }
 
+/// Chunks count their lines as the lexer does: through CR LF and lone CR
+/// line ends, comments and blank lines, the joined scene's source lines
+/// are the sequential reader's.
+#[test]
+fn chunks_count_every_kind_of_line_end() {
+    let plain = big_scene(3000).replace("pl 0 -1 0 1 -1 0 0 -1 -1\n", "").replace("aabb", "# aabb");
+    let mut src = String::new();
+    for (i, line) in plain.lines().enumerate() {
+        src += line;
+        src += ["\n", "\r\n", "\r", "  # a comment\n", "\n\n", "\t\r\n\r"][i % 6];
+    }
+    let opts = ParseOptions::default();
+    let one = parse_sequential(src.as_bytes(), &opts).unwrap();
+    assert!(one.diagnostics.is_empty(), "{:?}", one.diagnostics.first());
+    let last = one.scene.primitives.last().map(|p| p.line.0);
+    assert!(last > Some(plain.lines().count() as u32), "blank lines counted: {last:?}");
+    for chunks in [2, 3, 5, 8] {
+        let many = parse_chunked(src.as_bytes(), &opts, chunks).expect("a quiet file joins");
+        assert_eq!(format!("{:?}", many.scene), format!("{:?}", one.scene), "{chunks} chunks");
+    }
+}
+
 #[test]
 fn a_large_file_with_errors_reports_what_the_sequential_reader_does() {
     // Over the parallel threshold, with a light after objects (a warning that

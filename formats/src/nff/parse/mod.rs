@@ -158,18 +158,22 @@ pub(super) fn utf16(src: &[u8]) -> Option<&'static str> {
 }
 
 /// One chunk of a file, read on its own as a fragment: its scene (material
-/// indices local to the chunk) and its diagnostics. `first_line` is the line
-/// the chunk starts at; room is made for `primitives` primitives.
+/// indices local to the chunk), its diagnostics, and, when there are none,
+/// the line breaks it holds. `first_line` is the line the chunk starts at;
+/// room is made for `primitives` primitives.
 pub(super) fn parse_chunk(
     src: &[u8],
     first_line: u32,
     opts: &ParseOptions,
     primitives: usize,
-) -> (Scene, Vec<Diagnostic>) {
+) -> (Scene, Vec<Diagnostic>, u32) {
     let mut p = Parser::new(src, first_line, ParseOptions { fragment: true, ..*opts });
     reserve_room(&mut p.scene.primitives, primitives);
     p.run();
-    (p.scene, p.diags)
+    // A read that says nothing reads to the end, so the lexer has passed
+    // every line break (one that stops early has diagnostics).
+    let lines = p.lexer.line() - first_line;
+    (p.scene, p.diags, lines)
 }
 
 /// How much of a file the room estimate reads: enough lines for a density,
