@@ -185,6 +185,33 @@ impl<'a> Lexer<'a> {
         self.pos = start + len;
         Some((value, self.token(start)))
     }
+
+    /// The next `N` tokens when every one is a finite number (as
+    /// [`Lexer::number`] takes them), their values and the last of them;
+    /// otherwise `None`,
+    /// with nothing consumed. The reader's path for an entity's numbers:
+    /// only the last token is made, the one a later message may point at.
+    #[inline]
+    pub fn numbers<const N: usize>(&mut self) -> Option<([f64; N], Token<'a>)> {
+        let saved = (self.pos, self.line, self.last_line, self.line_start);
+        let mut values = [0.0; N];
+        for k in 0..N {
+            let read = if self.skip_space() { number_prefix(&self.src[self.pos..]) } else { None };
+            let start = self.pos;
+            // A number glued to more token bytes (`1.5x`, `1e`) is not one.
+            let glued = |len: usize| self.src.get(start + len).is_some_and(|&b| CLASS[b as usize] == TOKEN);
+            let Some((value, len)) = read.filter(|&(v, len)| v.is_finite() && !glued(len)) else { break };
+            self.pos = start + len;
+            values[k] = value;
+            if k + 1 == N {
+                return Some((values, self.token(start)));
+            }
+            // What making its token would record.
+            self.last_line = self.line;
+        }
+        (self.pos, self.line, self.last_line, self.line_start) = saved;
+        None
+    }
 }
 
 impl<'a> Iterator for Lexer<'a> {
@@ -261,6 +288,45 @@ mod tests {
                 }
             }
             proptest::prop_assert_eq!(plain, fused);
+        }
+
+        /// Three numbers at once are the next three tokens when all are
+        /// finite numbers, the last one's token as tokenising gives it;
+        /// otherwise nothing is consumed.
+        #[test]
+        fn numbers_at_once_are_the_next_tokens_or_none(
+            words in proptest::collection::vec(
+                (
+                    proptest::sample::select(vec!["1", "-2.5", ".5", "1e999", "inf", "x", "1x", "#c", "0"]),
+                    proptest::sample::select(vec![" ", "\n", "\r\n", "\r", "\t"]),
+                ),
+                0..24,
+            ),
+        ) {
+            let src: String = words.iter().map(|(w, sep)| format!("{w}{sep}")).collect();
+            let plain: Vec<_> = Lexer::starting_at(src.as_bytes(), 1)
+                .map(|t| (t.text, t.line, t.column(), t.starts_line, parse_number(t.text)))
+                .collect();
+            let finite = |k: usize| plain.get(k).and_then(|p| p.4).is_some_and(f64::is_finite);
+            let (mut lexer, mut k) = (Lexer::starting_at(src.as_bytes(), 1), 0);
+            while k < plain.len() {
+                if let Some((values, t)) = lexer.numbers::<3>() {
+                    proptest::prop_assert!((k..k + 3).all(finite), "{:?}", src);
+                    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                    let want: Vec<f64> = plain[k..k + 3].iter().map(|p| p.4.unwrap()).collect();
+                    proptest::prop_assert_eq!(bits(&values), bits(&want));
+                    let last = &plain[k + 2];
+                    proptest::prop_assert_eq!((t.text, t.line, t.column(), t.starts_line), (last.0, last.1, last.2, last.3));
+                    k += 3;
+                } else {
+                    proptest::prop_assert!(!(k..k + 3).all(finite), "{:?}", src);
+                    let t = lexer.next().expect("a token is left");
+                    let p = &plain[k];
+                    proptest::prop_assert_eq!((t.text, t.line, t.column(), t.starts_line), (p.0, p.1, p.2, p.3));
+                    k += 1;
+                }
+            }
+            proptest::prop_assert!(lexer.next().is_none());
         }
     }
 

@@ -465,7 +465,24 @@ impl<'a> Parser<'a> {
         }
     }
 
+    /// `N` finite numbers read at once, where nothing was peeked; `None`,
+    /// with nothing read, where [`Parser::number`] is to read them one by
+    /// one (and say what is wrong). Either way the last number's token is
+    /// the one kept.
+    #[inline]
+    fn numbers<const N: usize>(&mut self) -> Option<[f64; N]> {
+        if self.peeked.is_some() {
+            return None;
+        }
+        let (values, t) = self.lexer.numbers::<N>()?;
+        self.last = Some(t);
+        Some(values)
+    }
+
     fn vec3(&mut self, what: What, entity: Entity) -> Res<DVec3> {
+        if let Some([x, y, z]) = self.numbers() {
+            return Ok(DVec3::new(x, y, z));
+        }
         let x = self.number(what, entity)?;
         let y = self.number(what, entity)?;
         let z = self.number(what, entity)?;
@@ -557,8 +574,13 @@ impl<'a> Parser<'a> {
             "l" => self.light(t, e),
             "f" => self.material(e),
             "s" => {
-                let center = self.vec3(What::Text("a sphere centre coordinate"), e)?;
-                let radius = self.number(What::Text("a sphere radius"), e)?;
+                let (center, radius) = match self.numbers() {
+                    Some([x, y, z, r]) => (DVec3::new(x, y, z), r),
+                    None => (
+                        self.vec3(What::Text("a sphere centre coordinate"), e)?,
+                        self.number(What::Text("a sphere radius"), e)?,
+                    ),
+                };
                 if radius == 0.0 {
                     self.warn(&t, "sphere of radius 0 is invisible".into());
                 }
