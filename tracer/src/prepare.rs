@@ -10,7 +10,7 @@ use crate::material::WhittedMaterial;
 use crate::stats::PerKind;
 use glam::{DVec3, Vec3A};
 use nffkit_formats::polygon::{drop_repeats, triangulate};
-use nffkit_formats::scene::MAX_COORDINATE;
+use nffkit_formats::scene::{Primitive, MAX_COORDINATE};
 use nffkit_formats::{box_faces, Dialect, Scene, Shape, View};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -305,50 +305,103 @@ fn triangles_of(vertices: &[DVec3]) -> Vec<[u32; 3]> {
     t
 }
 
+/// A run of spheres at least this long that ends the primitive list is
+/// converted on all cores.
+const PARALLEL_SPHERES: usize = 1 << 14;
+
+/// How a primitive's per-primitive record is made: its material (0 is the
+/// default, before the file's first `f`) and which side it culls.
+struct Records<'a> {
+    materials: &'a [WhittedMaterial],
+    one_sided: bool,
+}
+
+impl Records<'_> {
+    /// The record of `prim`, which shows only its inside when
+    /// `inside_only`, with patch normals `patch`.
+    #[inline]
+    fn of(&self, prim: &Primitive, inside_only: bool, patch: Option<u32>) -> PrimInfo {
+        let material = prim.material.map_or(0, |m| m + 1);
+        let transmissive = self.materials[material as usize].t > 0.0;
+        let cull = if inside_only {
+            Cull::Front
+        } else if self.one_sided && !transmissive {
+            Cull::Back
+        } else {
+            Cull::None
+        };
+        PrimInfo::new(material, cull, patch, prim.line.0)
+    }
+
+    /// A kept sphere ([`kept_sphere`]) and its record.
+    #[inline]
+    fn sphere(&self, prim: &Primitive, center: DVec3, radius: f64) -> (Sphere, PrimInfo) {
+        (Sphere::new(v3(center), radius.abs() as f32), self.of(prim, radius < 0.0, None))
+    }
+}
+
+/// Whether `prim` is a sphere the geometry keeps: of some size and not
+/// too large for single precision (the reader warns of those).
+#[inline]
+fn kept_sphere(prim: &Primitive) -> bool {
+    matches!(prim.shape, Shape::Sphere { radius, .. } if radius != 0.0)
+        && prim.shape.magnitude() <= MAX_COORDINATE
+}
+
 /// Flatten the file's primitives into typed arrays, numbered in [`Kind`]
 /// order. Boxes become twelve triangles.
 pub(crate) fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_sided: bool) -> Geometry {
+    build_geometry_with(scene, materials, one_sided, PARALLEL_SPHERES)
+}
+
+/// [`build_geometry`], converting a final run of at least `parallel` kept
+/// spheres on all cores.
+fn build_geometry_with(
+    scene: &Scene,
+    materials: &[WhittedMaterial],
+    one_sided: bool,
+    parallel: usize,
+) -> Geometry {
     let mut g = Geometry::default();
+    let prims = &scene.primitives;
     // Sized up front, so that a large scene's arrays are not copied as they
-    // grow (counted on all cores: a pass over every primitive).
-    let (spheres, triangles) = scene
-        .primitives
+    // grow; and the last primitive that is not a kept sphere found, after
+    // which the list is a run of them (an SPD sphere scene: a floor, then
+    // spheres). Counted on all cores: a pass over every primitive.
+    let (spheres, triangles, last_other) = prims
         .par_iter()
-        .map(|p| match &p.shape {
-            Shape::Sphere { .. } => (1, 0),
-            Shape::Polygon { vertices } => (0, vertices.len().saturating_sub(2)),
-            Shape::Patch(p) => (0, p.vertices.len().saturating_sub(2)),
-            Shape::Box { .. } => (0, 12),
-            _ => (0, 0),
+        .enumerate()
+        .map(|(i, p)| {
+            let (s, t) = match &p.shape {
+                Shape::Sphere { .. } => (1, 0),
+                Shape::Polygon { vertices } => (0, vertices.len().saturating_sub(2)),
+                Shape::Patch(p) => (0, p.vertices.len().saturating_sub(2)),
+                Shape::Box { .. } => (0, 12),
+                _ => (0, 0),
+            };
+            (s, t, (!kept_sphere(p)).then_some(i))
         })
-        .reduce(|| (0, 0), |(s0, t0), (s1, t1)| (s0 + s1, t0 + t1));
+        .reduce(|| (0, 0, None), |(s0, t0, o0), (s1, t1, o1)| (s0 + s1, t0 + t1, o0.max(o1)));
     g.spheres.reserve_exact(spheres);
     g.triangles.reserve(triangles);
     // Per-primitive data per kind, joined in id order at the end.
     let mut info: [Vec<PrimInfo>; Kind::COUNT] = Default::default();
     info[Kind::Sphere as usize].reserve_exact(spheres);
     info[Kind::Triangle as usize].reserve(triangles);
+    let records = Records { materials, one_sided };
+    let run = last_other.map_or(0, |i| i + 1);
+    let run = if prims.len() - run >= parallel { run } else { prims.len() };
     // Shapes too large for single precision are left out (the reader warns).
-    for prim in scene.primitives.iter().filter(|p| p.shape.magnitude() <= MAX_COORDINATE) {
-        let material = prim.material.map_or(0, |m| m + 1);
-        let transmissive = materials[material as usize].t > 0.0;
-        let cull = |inside_only: bool| {
-            if inside_only {
-                Cull::Front
-            } else if one_sided && !transmissive {
-                Cull::Back
-            } else {
-                Cull::None
-            }
-        };
-        let record = |cull, patch| PrimInfo::new(material, cull, patch, prim.line.0);
+    for prim in prims[..run].iter().filter(|p| p.shape.magnitude() <= MAX_COORDINATE) {
+        let record = |inside_only, patch| records.of(prim, inside_only, patch);
         match &prim.shape {
             Shape::Sphere { center, radius } => {
                 if *radius == 0.0 {
                     continue;
                 }
-                g.spheres.push(Sphere::new(v3(*center), radius.abs() as f32));
-                info[Kind::Sphere as usize].push(record(cull(*radius < 0.0), None));
+                let (sphere, info_of) = records.sphere(prim, *center, *radius);
+                g.spheres.push(sphere);
+                info[Kind::Sphere as usize].push(info_of);
             }
             Shape::Cone(cone) => {
                 let nffkit_formats::Cone { base, base_radius, apex, apex_radius } = &**cone;
@@ -359,12 +412,12 @@ pub(crate) fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_s
                 }
                 let (r0, r1) = (base_radius.abs() as f32, apex_radius.abs() as f32);
                 g.cones.push(Cone { base: b, axis: (a - b) / height, height, r0, slope: (r1 - r0) / height });
-                info[Kind::Cone as usize].push(record(cull(*base_radius < 0.0 || *apex_radius < 0.0), None));
+                info[Kind::Cone as usize].push(record(*base_radius < 0.0 || *apex_radius < 0.0, None));
             }
             Shape::Polygon { vertices } => {
                 for t in triangles_of(vertices) {
                     g.triangles.push(Triangle { v: t.map(|i| v3(vertices[i as usize])) });
-                    info[Kind::Triangle as usize].push(record(cull(false), None));
+                    info[Kind::Triangle as usize].push(record(false, None));
                 }
             }
             Shape::Patch(patch) => {
@@ -372,8 +425,7 @@ pub(crate) fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_s
                 for t in triangles_of(vertices) {
                     g.triangles.push(Triangle { v: t.map(|i| v3(vertices[i as usize])) });
                     let n = t.map(|i| v3(normals[i as usize]).normalize_or_zero());
-                    info[Kind::Triangle as usize]
-                        .push(record(cull(false), Some(g.patch_normals.len() as u32)));
+                    info[Kind::Triangle as usize].push(record(false, Some(g.patch_normals.len() as u32)));
                     g.patch_normals.push(n);
                 }
             }
@@ -386,18 +438,29 @@ pub(crate) fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_s
                     continue;
                 }
                 g.planes.push(Plane { point: v3(a), n: v3(n) });
-                info[Kind::Plane as usize].push(record(cull(false), None));
+                info[Kind::Plane as usize].push(record(false, None));
             }
             Shape::Box(aabb) => {
                 let nffkit_formats::AxisBox { min, max } = &**aabb;
                 for [a, b, c, d] in box_faces(*min, *max) {
                     for t in [[a, b, c], [a, c, d]] {
                         g.triangles.push(Triangle { v: t.map(v3) });
-                        info[Kind::Triangle as usize].push(record(cull(false), None));
+                        info[Kind::Triangle as usize].push(record(false, None));
                     }
                 }
             }
         }
+    }
+    // The run of kept spheres that ends the list, converted on all cores
+    // straight into both lists (their lengths known, each core writes its
+    // own places).
+    if run < prims.len() {
+        let mut lists = (std::mem::take(&mut g.spheres), std::mem::take(&mut info[Kind::Sphere as usize]));
+        lists.par_extend(prims[run..].par_iter().map(|prim| match prim.shape {
+            Shape::Sphere { center, radius } => records.sphere(prim, center, radius),
+            _ => unreachable!("the run holds only spheres"),
+        }));
+        (g.spheres, info[Kind::Sphere as usize]) = lists;
     }
     // The first kind's list grows to hold the others' instead of all being
     // copied into a fresh one: a sphere scene's is the only one, not copied.
@@ -410,4 +473,48 @@ pub(crate) fn build_geometry(scene: &Scene, materials: &[WhittedMaterial], one_s
     g.any_cull = g.info.iter().any(|i| i.cull != Cull::None);
     g.assign_ids();
     g
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::uniform;
+    use nffkit_formats::scene::SourceLine;
+
+    /// Converting the spheres that end the list on all cores gives the
+    /// geometry that converting them one by one gives: materials, culling
+    /// (inside-only spheres, one-sided opaque ones, two-sided transmissive
+    /// ones) and lines; spheres left out (radius 0, too large) end the
+    /// run's start where they are.
+    #[test]
+    fn the_final_run_of_spheres_converts_on_all_cores_as_one_by_one() {
+        let mut rnd = uniform(0x5eed_1234_abcd_ef01);
+        let m = |t: f32| WhittedMaterial { t, ..crate::testing::white() };
+        let materials = [m(0.0), m(0.0), m(0.5), m(0.0)];
+        for skipped in [None, Some(0.0), Some(1e30)] {
+            let mut scene = Scene::default();
+            let floor = Shape::Polygon { vertices: vec![DVec3::ZERO, DVec3::X, DVec3::Y] };
+            scene.primitives.push(Primitive { shape: floor, material: None, line: SourceLine(1) });
+            for i in 0..3000u32 {
+                let center = DVec3::new(rnd() as f64, rnd() as f64, rnd() as f64) * 10.0;
+                let radius = if i % 7 == 3 { -0.25 } else { 0.5 } * (1.0 + rnd() as f64);
+                let radius = match skipped {
+                    Some(r) if i == 1000 => r,
+                    _ => radius,
+                };
+                let material = Some(i % 3);
+                scene.primitives.push(Primitive {
+                    shape: Shape::Sphere { center, radius },
+                    material,
+                    line: SourceLine(i + 2),
+                });
+            }
+            for one_sided in [false, true] {
+                let one = build_geometry_with(&scene, &materials, one_sided, usize::MAX);
+                let all = build_geometry_with(&scene, &materials, one_sided, 1);
+                assert_eq!(format!("{all:?}"), format!("{one:?}"), "{skipped:?}, one-sided {one_sided}");
+                assert_eq!(one.spheres.len(), if skipped.is_some() { 2999 } else { 3000 });
+            }
+        }
+    }
 }

@@ -65,9 +65,9 @@ pub fn random_scene(seed: u64, n: usize, one_sided: bool) -> Geometry {
     geometry_of(&scene, one_sided)
 }
 
-/// The primitives of `scene`, all in one white diffuse material.
-pub fn geometry_of(scene: &Scene, one_sided: bool) -> Geometry {
-    let m = WhittedMaterial {
+/// A white diffuse material.
+pub fn white() -> WhittedMaterial {
+    WhittedMaterial {
         color: Vec3A::ONE,
         specular: Vec3A::ONE,
         fresnel: false,
@@ -76,8 +76,12 @@ pub fn geometry_of(scene: &Scene, one_sided: bool) -> Geometry {
         shine: 1.0,
         t: 0.0,
         ior: 1.0,
-    };
-    build_geometry(scene, &[m], one_sided)
+    }
+}
+
+/// The primitives of `scene`, all in one white diffuse material.
+pub fn geometry_of(scene: &Scene, one_sided: bool) -> Geometry {
+    build_geometry(scene, &[white()], one_sided)
 }
 
 /// Up to sixteen rays for packet tests: around a common origin and
