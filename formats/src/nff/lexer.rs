@@ -188,9 +188,9 @@ impl<'a> Lexer<'a> {
 
     /// The next `N` tokens when every one is a finite number (as
     /// [`Lexer::number`] takes them), their values and the last of them;
-    /// otherwise `None`,
-    /// with nothing consumed. The reader's path for an entity's numbers:
-    /// only the last token is made, the one a later message may point at.
+    /// otherwise `None`, with nothing consumed. The reader's path for an
+    /// entity's numbers: only the last token is made, the one a later
+    /// message may point at.
     #[inline]
     pub fn numbers<const N: usize>(&mut self) -> Option<([f64; N], Token<'a>)> {
         let saved = (self.pos, self.line, self.last_line, self.line_start);
