@@ -173,16 +173,7 @@ impl<'a> Lexer<'a> {
     /// for the token.
     #[inline]
     pub fn number(&mut self) -> Option<(f64, Token<'a>)> {
-        if !self.skip_space() {
-            return None;
-        }
-        let start = self.pos;
-        let (value, len) = number_prefix(&self.src[start..])?;
-        // A number glued to more token bytes (`1.5x`, `1e`) is not one.
-        if self.src.get(start + len).is_some_and(|&b| CLASS[b as usize] == TOKEN) {
-            return None;
-        }
-        self.pos = start + len;
+        let (value, start) = self.next_number()?;
         Some((value, self.token(start)))
     }
 
@@ -196,12 +187,7 @@ impl<'a> Lexer<'a> {
         let saved = (self.pos, self.line, self.last_line, self.line_start);
         let mut values = [0.0; N];
         for k in 0..N {
-            let read = if self.skip_space() { number_prefix(&self.src[self.pos..]) } else { None };
-            let start = self.pos;
-            // A number glued to more token bytes (`1.5x`, `1e`) is not one.
-            let glued = |len: usize| self.src.get(start + len).is_some_and(|&b| CLASS[b as usize] == TOKEN);
-            let Some((value, len)) = read.filter(|&(v, len)| v.is_finite() && !glued(len)) else { break };
-            self.pos = start + len;
+            let Some((value, start)) = self.next_number().filter(|(v, _)| v.is_finite()) else { break };
             values[k] = value;
             if k + 1 == N {
                 return Some((values, self.token(start)));
@@ -211,6 +197,24 @@ impl<'a> Lexer<'a> {
         }
         (self.pos, self.line, self.last_line, self.line_start) = saved;
         None
+    }
+
+    /// [`Lexer::number`] without making the token: the value and where
+    /// the token starts, the lexer past it; `None` with only the
+    /// whitespace before the next token consumed.
+    #[inline(always)]
+    fn next_number(&mut self) -> Option<(f64, usize)> {
+        if !self.skip_space() {
+            return None;
+        }
+        let start = self.pos;
+        let (value, len) = number_prefix(&self.src[start..])?;
+        // A number glued to more token bytes (`1.5x`, `1e`) is not one.
+        if self.src.get(start + len).is_some_and(|&b| CLASS[b as usize] == TOKEN) {
+            return None;
+        }
+        self.pos = start + len;
+        Some((value, start))
     }
 }
 

@@ -52,7 +52,7 @@ pub(super) fn parse_in_chunks(src: &[u8], opts: &ParseOptions, chunks: usize) ->
                 scope.spawn(move || {
                     // Read as if it began the file; `join` moves its lines
                     // on by the lines of the chunks before it.
-                    let (scene, diags, lines) = parse_chunk(piece, 1, opts, room);
+                    let (scene, diags, lines) = parse_chunk(piece, opts, room);
                     Part { scene, quiet: diags.is_empty(), lines }
                 })
             })

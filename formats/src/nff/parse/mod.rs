@@ -97,7 +97,7 @@ pub fn parse_sequential(src: &[u8], opts: &ParseOptions) -> Result<Parsed, Parse
     if let Some(encoding) = utf16(src) {
         return Err(utf16_error(encoding));
     }
-    let mut p = Parser::new(strip_dos_eof(src), 1, *opts);
+    let mut p = Parser::new(strip_dos_eof(src), *opts);
     reserve_room(&mut p.scene.primitives, primitives_hint(src, src.len()));
     if bom {
         p.diags.push(Diagnostic {
@@ -159,20 +159,19 @@ pub(super) fn utf16(src: &[u8]) -> Option<&'static str> {
 
 /// One chunk of a file, read on its own as a fragment: its scene (material
 /// indices local to the chunk), its diagnostics, and, when there are none,
-/// the line breaks it holds. `first_line` is the line the chunk starts at;
-/// room is made for `primitives` primitives.
+/// the line breaks it holds. Its lines count from 1, as if it began the
+/// file; room is made for `primitives` primitives.
 pub(super) fn parse_chunk(
     src: &[u8],
-    first_line: u32,
     opts: &ParseOptions,
     primitives: usize,
 ) -> (Scene, Vec<Diagnostic>, u32) {
-    let mut p = Parser::new(src, first_line, ParseOptions { fragment: true, ..*opts });
+    let mut p = Parser::new(src, ParseOptions { fragment: true, ..*opts });
     reserve_room(&mut p.scene.primitives, primitives);
     p.run();
     // A read that says nothing reads to the end, so the lexer has passed
     // every line break (one that stops early has diagnostics).
-    let lines = p.lexer.line() - first_line;
+    let lines = p.lexer.line() - 1;
     (p.scene, p.diags, lines)
 }
 
@@ -337,9 +336,9 @@ struct Parser<'a> {
 type Res<T> = Result<T, Diagnostic>;
 
 impl<'a> Parser<'a> {
-    /// A parser over `src`, which starts at line `first_line` of its file.
-    fn new(src: &'a [u8], first_line: u32, opts: ParseOptions) -> Self {
-        let lexer = Lexer::starting_at(src, first_line);
+    /// A parser over `src`, its lines counted from 1.
+    fn new(src: &'a [u8], opts: ParseOptions) -> Self {
+        let lexer = Lexer::starting_at(src, 1);
         Parser {
             lexer,
             peeked: None,

@@ -314,8 +314,8 @@ fn parts(
 }
 
 /// The parts of `arena` in one array in the order of `parts`, their
-/// interior links made absolute: each node is copied once, however many
-/// levels were built in parallel.
+/// interior links made absolute: each node is copied from the arena once,
+/// however many levels were built in parallel.
 fn concat(arena: &[Node4], parts: Vec<Part>) -> Vec<Node4> {
     // (The parts tile the arena.)
     let mut nodes = Vec::with_capacity(arena.len());
