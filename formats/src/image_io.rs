@@ -3,7 +3,7 @@
 //! ([`crate::atomic`]), so a failed or interrupted write never leaves a
 //! partial image.
 
-use std::io::{self, Write};
+use std::io;
 use std::path::Path;
 
 /// A linear RGB image, row-major, top row first.
@@ -65,10 +65,27 @@ pub fn to_u8(v: f32, srgb: bool) -> u8 {
     (v * 255.0 + 0.5) as u8
 }
 
+/// 8-bit RGB bytes of linear `pixels` ([`to_u8`] per channel), in order.
+pub fn rgb8(pixels: impl ExactSizeIterator<Item = [f32; 3]>, srgb: bool) -> Vec<u8> {
+    let mut out = Vec::with_capacity(pixels.len() * 3);
+    for p in pixels {
+        out.extend(p.map(|c| to_u8(c, srgb)));
+    }
+    out
+}
+
 impl RgbImage {
     /// 8-bit RGB bytes.
     pub fn to_rgb8(&self, srgb: bool) -> Vec<u8> {
-        self.pixels.iter().flat_map(|p| p.map(|c| to_u8(c, srgb))).collect()
+        rgb8(self.pixels.iter().copied(), srgb)
+    }
+}
+
+impl ImageKind {
+    /// Whether the kind stores 8-bit codes, which [`encode_rgb8`] writes
+    /// without the floating-point image.
+    pub fn is_8bit(self) -> bool {
+        matches!(self, ImageKind::Png | ImageKind::Ppm)
     }
 }
 
@@ -84,15 +101,7 @@ pub fn encode(img: &RgbImage, kind: ImageKind, srgb: bool) -> io::Result<Vec<u8>
     let to_io = |e: image::ImageError| io::Error::other(e.to_string());
     let mut buf = Vec::new();
     match kind {
-        ImageKind::Png => {
-            let rgb = image::RgbImage::from_raw(img.width, img.height, img.to_rgb8(srgb))
-                .expect("buffer size matches dimensions");
-            rgb.write_to(&mut io::Cursor::new(&mut buf), image::ImageFormat::Png).map_err(to_io)?;
-        }
-        ImageKind::Ppm => {
-            write!(buf, "P6\n{} {}\n255\n", img.width, img.height)?;
-            buf.extend(img.to_rgb8(srgb));
-        }
+        ImageKind::Png | ImageKind::Ppm => buf = encode_rgb8(img.width, img.height, img.to_rgb8(srgb), kind)?,
         ImageKind::Exr => {
             let attrs = exr::prelude::LayerAttributes::default();
             buf = encode_exr(
@@ -111,6 +120,31 @@ pub fn encode(img: &RgbImage, kind: ImageKind, srgb: bool) -> io::Result<Vec<u8>
         }
     }
     Ok(buf)
+}
+
+/// Encode 8-bit RGB bytes (`width * height` pixels, top row first, as
+/// [`rgb8`] makes them) as a PNG or PPM file's bytes; the floating-point
+/// kinds need [`encode`].
+pub fn encode_rgb8(width: u32, height: u32, rgb: Vec<u8>, kind: ImageKind) -> io::Result<Vec<u8>> {
+    let invalid = |what: String| io::Error::new(io::ErrorKind::InvalidInput, what);
+    if rgb.len() as u64 != width as u64 * height as u64 * 3 {
+        return Err(invalid(format!("{} bytes are not a {width}x{height} RGB image", rgb.len())));
+    }
+    match kind {
+        ImageKind::Png => {
+            let mut buf = Vec::new();
+            let rgb = image::RgbImage::from_raw(width, height, rgb).expect("buffer size checked above");
+            rgb.write_to(&mut io::Cursor::new(&mut buf), image::ImageFormat::Png)
+                .map_err(|e| io::Error::other(e.to_string()))?;
+            Ok(buf)
+        }
+        ImageKind::Ppm => {
+            let mut buf = format!("P6\n{width} {height}\n255\n").into_bytes();
+            buf.extend(rgb);
+            Ok(buf)
+        }
+        ImageKind::Exr | ImageKind::Hdr => Err(invalid(format!("{kind:?} is not an 8-bit format"))),
+    }
 }
 
 /// Encode `img` as OpenEXR (RGB, 32-bit float, RLE in 64x64 tiles) with the
@@ -205,6 +239,19 @@ mod tests {
         assert_eq!(ImageKind::from_path(Path::new("a.exr")).unwrap(), ImageKind::Exr);
         let e = ImageKind::from_path(Path::new("a.jpg")).unwrap_err().to_string();
         assert!(e.contains("a.jpg") && e.contains(".png, .ppm"), "{e}");
+    }
+
+    #[test]
+    fn eight_bit_encoding_checks_its_bytes_and_kind() {
+        let img = RgbImage { width: 3, height: 2, pixels: vec![[0.25, 0.5, 1.0]; 6] };
+        for kind in [ImageKind::Png, ImageKind::Ppm] {
+            let direct = encode_rgb8(3, 2, img.to_rgb8(false), kind).unwrap();
+            assert_eq!(direct, encode(&img, kind, false).unwrap(), "{kind:?}");
+            let e = encode_rgb8(3, 2, vec![0; 17], kind).unwrap_err().to_string();
+            assert!(e.contains("17 bytes are not a 3x2"), "{e}");
+        }
+        let e = encode_rgb8(3, 2, img.to_rgb8(false), ImageKind::Exr).unwrap_err().to_string();
+        assert!(e.contains("not an 8-bit format"), "{e}");
     }
 
     #[test]

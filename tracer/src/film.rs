@@ -1,7 +1,7 @@
 //! The film: linear RGB pixels, and the false-colour cost image.
 
 use glam::Vec3A;
-use nffkit_formats::image_io::RgbImage;
+use nffkit_formats::image_io::{self, RgbImage};
 
 /// A rendered image in linear RGB.
 #[derive(Debug, Clone, PartialEq)]
@@ -23,6 +23,12 @@ impl Film {
     /// The pixel at `(x, y)`.
     pub fn get(&self, x: u32, y: u32) -> Vec3A {
         self.pixels[(y * self.width + x) as usize]
+    }
+
+    /// 8-bit RGB bytes for [`image_io::encode_rgb8`], without the
+    /// floating-point image [`Film::to_image`] makes.
+    pub fn to_rgb8(&self, srgb: bool) -> Vec<u8> {
+        image_io::rgb8(self.pixels.iter().map(|p| p.to_array()), srgb)
     }
 
     /// As an image for the file writers.

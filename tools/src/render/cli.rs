@@ -142,18 +142,18 @@ fn render_command(cfg: &mut RenderConfig) -> Result<()> {
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    let image = out.film.to_image();
     let bytes = match (&digest, cfg.output_kind) {
         // A part in EXR carries its window and what merging needs to check.
         (Some(digest), ImageKind::Exr) => part::encode_part(
-            &image,
+            &out.film.to_image(),
             full,
             window,
             digest,
             &part::settings_signature(&settings, &cfg.prepare, &prepared.camera),
             &out.counters,
         )?,
-        _ => image_io::encode(&image, cfg.output_kind, cfg.srgb)?,
+        (_, kind) if kind.is_8bit() => image_io::encode_rgb8(w, h, out.film.to_rgb8(cfg.srgb), kind)?,
+        (_, kind) => image_io::encode(&out.film.to_image(), kind, cfg.srgb)?,
     };
     nffkit_formats::atomic::write_bytes(&cfg.output, &bytes)?;
     if let (Some(path), Some(cost)) = (&cfg.aov_cost, &out.cost) {

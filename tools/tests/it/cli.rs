@@ -1,5 +1,6 @@
 //! End-to-end: the binaries a user runs, on small inputs.
 
+use nffkit_formats::image_io::to_u8;
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -73,6 +74,34 @@ fn floating_point_outputs_are_written() {
         );
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         assert!(std::fs::metadata(&out).unwrap().len() > 100);
+    }
+}
+
+#[test]
+fn eight_bit_outputs_hold_the_float_pixels_codes() {
+    // PNG and PPM are written from the film's codes, EXR from its floats:
+    // the two paths must agree, with and without the sRGB curve.
+    let dir = tempfile::tempdir().unwrap();
+    for srgb in [false, true] {
+        let shot = |ext: &str| {
+            let out = dir.path().join(format!("x-{srgb}.{ext}"));
+            let mut args = vec![spd("balls_s1.nff"), "-o".into(), out.to_str().unwrap().into()];
+            args.extend(["--width", "24", "--height", "20", "--spp", "2"].map(String::from));
+            if srgb && ext != "exr" {
+                args.push("--srgb".into());
+            }
+            let o = run(RENDER, &args.iter().map(String::as_str).collect::<Vec<_>>(), None);
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+            image::open(out).unwrap()
+        };
+        let floats = shot("exr").to_rgb32f();
+        let want: Vec<u8> = floats.pixels().flat_map(|p| p.0.map(|c| to_u8(c, srgb))).collect();
+        assert!(want.iter().any(|&c| c > 20), "a lit image");
+        for ext in ["png", "ppm"] {
+            let got = shot(ext).to_rgb8();
+            assert_eq!((got.width(), got.height()), (24, 20), "{ext}");
+            assert_eq!(got.into_raw(), want, "{ext}, sRGB {srgb}");
+        }
     }
 }
 
