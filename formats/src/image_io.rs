@@ -47,6 +47,12 @@ impl ImageKind {
             _ => return Err(UnknownImageKind(path.display().to_string())),
         })
     }
+
+    /// Whether the kind stores 8-bit codes, which [`encode_rgb8`] writes
+    /// without the floating-point image.
+    pub fn is_8bit(self) -> bool {
+        matches!(self, ImageKind::Png | ImageKind::Ppm)
+    }
 }
 
 /// Linear value to an 8-bit code, clamped, optionally through the sRGB curve.
@@ -78,14 +84,6 @@ impl RgbImage {
     /// 8-bit RGB bytes.
     pub fn to_rgb8(&self, srgb: bool) -> Vec<u8> {
         rgb8(self.pixels.iter().copied(), srgb)
-    }
-}
-
-impl ImageKind {
-    /// Whether the kind stores 8-bit codes, which [`encode_rgb8`] writes
-    /// without the floating-point image.
-    pub fn is_8bit(self) -> bool {
-        matches!(self, ImageKind::Png | ImageKind::Ppm)
     }
 }
 
