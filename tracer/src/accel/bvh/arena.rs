@@ -2,13 +2,12 @@
 //! array they are copied into as they are finished, in any order, and
 //! scratch vectors to build them in.
 //!
-//! Each part used to be built in a vector of its own, and each such vector
-//! took fresh pages (a fault each: the heap's small blocks have no huge
-//! pages). A scratch vector keeps its pages and stays in cache from one
-//! part to the next, and the arena is one block; for a large scene a big
-//! one, which the tools' allocator can serve from the pages of big blocks
-//! freed before it (the file's primitives). Everything goes with the arena
-//! once the parts are gathered.
+//! A scratch vector keeps its pages and stays in cache from one part to
+//! the next, where a vector per part would take fresh pages (a fault each:
+//! the heap's small blocks have no huge pages). The arena is one block; for
+//! a large scene a big one, which the tools' allocator can serve from the
+//! pages of big blocks freed before it (the file's primitives). Everything
+//! goes with the arena once the parts are gathered.
 
 use std::ops::Range;
 use std::sync::{Mutex, MutexGuard};
