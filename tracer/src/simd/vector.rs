@@ -444,8 +444,8 @@ mod x86 {
                     unsafe { $hmin(self.0) }
                 }
                 #[inline(always)]
-                fn hmin4(v: [Self; 4]) -> [f32; 4] {
-                    unsafe { $hmin4(v.map(|x| x.0)) }
+                fn hmin4([a, b, c, d]: [Self; 4]) -> [f32; 4] {
+                    unsafe { $hmin4([a.0, b.0, c.0, d.0]) }
                 }
                 #[inline(always)]
                 fn to_i32_bits(self) -> Self {
@@ -500,10 +500,11 @@ mod x86 {
         }
     }
 
-    /// Smallest lane of each of four vectors of eight.
+    /// Smallest lane of each of four vectors of eight. (No closure: one is
+    /// compiled without AVX, and the intrinsics in it would be calls.)
     #[inline(always)]
-    unsafe fn avx_hmin4(v: [__m256; 4]) -> [f32; 4] {
-        unsafe { sse_hmin4(v.map(|x| avx_halves_min(x))) }
+    unsafe fn avx_hmin4([a, b, c, d]: [__m256; 4]) -> [f32; 4] {
+        unsafe { sse_hmin4([avx_halves_min(a), avx_halves_min(b), avx_halves_min(c), avx_halves_min(d)]) }
     }
 
     /// SSE blend without SSE4.1: `(a & !m) | (b & m)`.
