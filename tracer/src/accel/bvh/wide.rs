@@ -418,35 +418,39 @@ impl Node4 {
         // Per slot, the entry distances of the lanes that hit (else
         // infinity), reduced for all four slots at once below.
         let mut near_min = [inf; 4];
-        for slot in 0..4 {
-            if !self.used(slot) {
+        let used = [self.used(0), self.used(1), self.used(2), self.used(3)];
+        let [lo, hi] = &self.bounds;
+        // Group by group, the group's rays loaded once for the four boxes.
+        for g in 0..LANES / V::W {
+            if !group_active::<V>(mask, g) {
                 continue;
             }
-            let [lo, hi] = &self.bounds;
-            let lo = [lo[0][slot], lo[1][slot], lo[2][slot]];
-            let hi = [hi[0][slot], hi[1][slot], hi[2][slot]];
-            let mut m: Mask = 0;
-            for g in 0..LANES / V::W {
-                if !group_active::<V>(mask, g) {
+            // (No closures: one is compiled without the instruction set.)
+            let o = [s.load(&p.o[0].0, g), s.load(&p.o[1].0, g), s.load(&p.o[2].0, g)];
+            let inv = [s.load(&p.inv[0].0, g), s.load(&p.inv[1].0, g), s.load(&p.inv[2].0, g)];
+            let t_min = s.load(&p.t_min.0, g);
+            let far = s.load(far, g).mul(s.splat(ENTRY_SLACK));
+            for slot in 0..4 {
+                if !used[slot] {
                     continue;
                 }
-                let mut t_near = s.load(&p.t_min.0, g);
+                let mut t_near = t_min;
                 let mut t_far = inf;
                 for a in 0..3 {
-                    let (o, inv) = (s.load(&p.o[a].0, g), s.load(&p.inv[a].0, g));
-                    let t0 = s.splat(lo[a]).sub(o).mul(inv);
-                    let t1 = s.splat(hi[a]).sub(o).mul(inv);
+                    let t0 = s.splat(lo[a][slot]).sub(o[a]).mul(inv[a]);
+                    let t1 = s.splat(hi[a][slot]).sub(o[a]).mul(inv[a]);
                     t_near = t_near.max(t0.min(t1));
                     t_far = t_far.min(t0.max(t1));
                 }
-                let t_far = t_far.mul(s.splat(SLAB_WIDEN)).min(s.load(far, g).mul(s.splat(ENTRY_SLACK)));
-                let hit = t_near.le(t_far);
-                m |= group_bits::<V>(hit, g);
+                let hit = t_near.le(t_far.mul(s.splat(SLAB_WIDEN)).min(far));
+                masks[slot] |= group_bits::<V>(hit, g);
                 if !Q::ANY_HIT {
                     near_min[slot] = near_min[slot].min(V::select(hit, t_near, inf));
                 }
             }
-            masks[slot] = m & mask;
+        }
+        for m in &mut masks {
+            *m &= mask;
         }
         if Q::ANY_HIT || masks == [0; 4] {
             return (masks, [f32::INFINITY; 4]);
