@@ -59,14 +59,8 @@ pub fn eye_rays(scene: &RenderScene) -> (u64, u64) {
     with_accel!(&scene.accel, acc => {
         let mut tr = Tracer::new(acc, &scene.geometry);
         let (w, h) = scene.camera.resolution();
-        let mut hits = 0;
-        for y in 0..h {
-            for x in 0..w {
-                let (ray, t_min) = scene.camera.ray(x as f32 + 0.5, y as f32 + 0.5, glam::Vec2::ZERO);
-                hits += u64::from(tr.nearest(&RayQuery::new(ray, t_min), f32::INFINITY).is_some());
-            }
-        }
-        (w as u64 * h as u64, hits)
+        let hits = eye_queries(scene).filter(|q| tr.nearest(q, f32::INFINITY).is_some()).count();
+        (u64::from(w) * u64::from(h), hits as u64)
     })
 }
 

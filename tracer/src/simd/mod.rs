@@ -100,6 +100,11 @@ pub fn isa() -> Isa {
 /// they are compiled with the instruction set too. The function may take
 /// type parameters with one bound each (`fn name<H: Bound>(...)`).
 ///
+/// Inside the body, call no vector method through a closure (nor
+/// `array::map` with one): a closure is compiled without the instruction
+/// set, so the intrinsics in it can stay calls that pass their vectors
+/// through memory.
+///
 /// ```ignore
 /// dispatch! {
 ///     /// Docs.

@@ -443,14 +443,11 @@ impl Node4 {
                     t_far = t_far.min(t0.max(t1));
                 }
                 let hit = t_near.le(t_far.mul(s.splat(SLAB_WIDEN)).min(far));
-                masks[slot] |= group_bits::<V>(hit, g);
+                masks[slot] |= group_bits::<V>(hit, g) & mask;
                 if !Q::ANY_HIT {
                     near_min[slot] = near_min[slot].min(V::select(hit, t_near, inf));
                 }
             }
-        }
-        for m in &mut masks {
-            *m &= mask;
         }
         if Q::ANY_HIT || masks == [0; 4] {
             return (masks, [f32::INFINITY; 4]);
