@@ -85,18 +85,22 @@ impl Whitted<'_> {
             color[i] = scene.ambient * m.kd * m.color;
             points[i] = Some(ShadePoint { p, ng, ns, d, entering: entering >> i & 1 != 0, m });
         });
-        let mut shadow = RayPacket::empty();
         let shaded = hit & packet.active;
-        for k in 0..scene.lights.len() {
-            self.light_packet(k, depth, &points, shaded, &at, ids, color, &mut shadow, th);
+        if shaded != 0 {
+            let mut shadow = RayPacket::empty();
+            for k in 0..scene.lights.len() {
+                self.light_packet(k, depth, &points, shaded, &at, ids, color, &mut shadow, th);
+            }
         }
         // Lanes whose colour sum has moved to their node.
         let mut in_node: Mask = 0;
         // The spawned rays, their geometry taken as the bounce kernel left
         // it. (Most packets, on matte surfaces or at the last level, spawn
-        // nothing: then no bounce is computed.)
-        let b = self.bounce_lanes(&points, &at, packet, depth);
-        if b.want != 0 {
+        // nothing: then no bounce is computed, nor its lanes cleared.)
+        let (want, eta) = self.spawning(&points, depth);
+        if want != 0 {
+            let mut b = BounceLanes { want, ..BounceLanes::default() };
+            bounces(crate::simd::isa(), &at, &packet.d, &eta, want, &mut b);
             let mut shares = [Lanes::ZERO; 3];
             let mut spawned: [Mask; 3] = [0; 3];
             for_lanes(b.want, |i| {
@@ -130,26 +134,22 @@ impl Whitted<'_> {
         for_lanes(packet.active & out.waiting & !in_node, |i| wave.set_color(out.node[i], out.color[i]));
     }
 
-    /// The bounces ([`bounces`]) of the lanes of `points` (at `depth`)
-    /// that may spawn rays: their material reflects or transmits, and the
-    /// depth limit is not reached. `at` holds the points, `packet` the rays.
-    fn bounce_lanes(&self, points: &Points, at: &PointLanes, packet: &RayPacket, depth: u32) -> BounceLanes {
-        let mut b = BounceLanes::default();
+    /// The lanes of `points` (at `depth`) that may spawn rays: their
+    /// material reflects or transmits, and the depth limit is not reached;
+    /// and each one's ratio of indices of refraction, for [`bounces`].
+    fn spawning(&self, points: &Points, depth: u32) -> (Mask, Lanes) {
+        let (mut want, mut eta) = (0, Lanes::ZERO);
         if depth >= self.settings.max_depth {
-            return b;
+            return (want, eta);
         }
-        let mut eta = Lanes::ZERO;
         for (i, sp) in points.iter().enumerate() {
             let Some(sp) = sp else { continue };
             if sp.m.spawns_rays() {
                 eta.0[i] = sp.m.eta(sp.entering);
-                b.want |= 1 << i;
+                want |= 1 << i;
             }
         }
-        if b.want != 0 {
-            bounces(crate::simd::isa(), at, &packet.d, &eta, b.want, &mut b);
-        }
-        b
+        (want, eta)
     }
 
     /// Add light `k` to the lanes of `points` whose shadow rays, set up
