@@ -88,6 +88,23 @@ fn pixel_blocks(w: u32, h: u32) -> impl Iterator<Item = impl Iterator<Item = (u3
     })
 }
 
+/// The eye packet of `pixels` (at most 16, lane by lane), aimed at their
+/// centres through `lanes` and set up lane-wise by the renderer's own
+/// kernel ([`camera::eye_rays`]) into `packet`.
+fn eye_packet(
+    scene: &RenderScene,
+    pixels: impl Iterator<Item = (u32, u32)>,
+    lanes: &mut EyeLanes,
+    packet: &mut RayPacket,
+) {
+    let mut n = 0;
+    for (x, y) in pixels {
+        lanes.set(n, Vec2::new(x as f32 + 0.5, y as f32 + 0.5), Vec2::ZERO);
+        n += 1;
+    }
+    camera::eye_rays(crate::simd::isa(), &scene.camera, lanes, first_lanes(n), packet);
+}
+
 fn rates_with<I: Intersector>(scene: &RenderScene, tr: &mut Tracer<I>, runs: u32) -> RayRates {
     let (w, h) = scene.camera.resolution();
     let geom = &scene.geometry;
@@ -99,19 +116,13 @@ fn rates_with<I: Intersector>(scene: &RenderScene, tr: &mut Tracer<I>, runs: u32
     // The shadow rays the shader would trace from each hit (shading normal
     // facing the light), built once and then timed alone: one by one, and
     // as the renderer packs them, per 4x4 block of pixels and per light.
-    let blocks: Vec<RayPacket> = pixel_blocks(w, h)
-        .map(|pixels| {
-            RayPacket::new(pixels.map(|(x, y)| {
-                let (ray, t_min) = scene.camera.ray(x as f32 + 0.5, y as f32 + 0.5, Vec2::ZERO);
-                (ray, t_min, f32::INFINITY)
-            }))
-        })
-        .collect();
     let mut shadow = Vec::new();
     let mut shadow_packets = Vec::new();
-    for p in &blocks {
-        let mut block_hits = PacketHits::new(p);
-        tr.nearest_packet(p, &mut block_hits);
+    let (mut eye_lanes, mut p) = (EyeLanes::default(), RayPacket::empty());
+    for pixels in pixel_blocks(w, h) {
+        eye_packet(scene, pixels, &mut eye_lanes, &mut p);
+        let mut block_hits = PacketHits::new(&p);
+        tr.nearest_packet(&p, &mut block_hits);
         for light in &scene.lights {
             let mut packet = RayPacket::empty();
             for i in 0..p.len() {
@@ -142,16 +153,11 @@ fn rates_with<I: Intersector>(scene: &RenderScene, tr: &mut Tracer<I>, runs: u32
     // lane-wise as the renderer sets up its eye packets, inside the timed
     // loop (as Embree's benchmark makes its packets).
     let mut packet_hits = 0;
-    let (mut eye_lanes, mut packet) = (EyeLanes::default(), RayPacket::empty());
+    let mut packet = RayPacket::empty();
     let eye_packet_s = best_of(runs, || {
         packet_hits = 0;
         for pixels in pixel_blocks(w, h) {
-            let mut n = 0;
-            for (x, y) in pixels {
-                eye_lanes.set(n, Vec2::new(x as f32 + 0.5, y as f32 + 0.5), Vec2::ZERO);
-                n += 1;
-            }
-            camera::eye_rays(crate::simd::isa(), &scene.camera, &eye_lanes, first_lanes(n), &mut packet);
+            eye_packet(scene, pixels, &mut eye_lanes, &mut packet);
             let mut hits = PacketHits::new(&packet);
             tr.nearest_packet(&packet, &mut hits);
             packet_hits += u64::from(hits.found().count_ones());

@@ -99,11 +99,11 @@ impl Whitted<'_> {
         // nothing: then no bounce is computed, nor its lanes cleared.)
         let (want, eta) = self.spawning(&points, depth);
         if want != 0 {
-            let mut b = BounceLanes { want, ..BounceLanes::default() };
+            let mut b = BounceLanes::default();
             bounces(crate::simd::isa(), &at, &packet.d, &eta, want, &mut b);
             let mut shares = [Lanes::ZERO; 3];
             let mut spawned: [Mask; 3] = [0; 3];
-            for_lanes(b.want, |i| {
+            for_lanes(want, |i| {
                 let Some(sp) = &points[i] else { return };
                 let refracts = sp.m.t > 0.0 && b.refracts >> i & 1 != 0;
                 let lane_shares = self.shares(sp, weights.0[i], refracts, &mut th.tracer.counters);

@@ -31,14 +31,12 @@ pub(crate) struct BounceLanes {
     /// Lanes whose ray refracts: no total internal reflection, and the
     /// refracted direction leaves through the surface.
     pub refracts: Mask,
-    /// The lanes set up (the rest hold nothing).
-    pub want: Mask,
 }
 
 impl Default for BounceLanes {
     fn default() -> Self {
         let zero = [Lanes::ZERO; 3];
-        BounceLanes { mirror_o: zero, mirror_d: zero, refract_o: zero, refract_d: zero, refracts: 0, want: 0 }
+        BounceLanes { mirror_o: zero, mirror_d: zero, refract_o: zero, refract_d: zero, refracts: 0 }
     }
 }
 

@@ -82,6 +82,8 @@ impl RayPacket {
     }
 
     /// A packet of `rays`, each `(ray, t_min, t_max)`; at most [`LANES`].
+    /// (For tests: the renderer and the benchmarks set up packets lane-wise.)
+    #[cfg(test)]
     pub fn new(rays: impl IntoIterator<Item = (Ray, f32, f32)>) -> RayPacket {
         let mut p = RayPacket::empty();
         let mut mask = 0;
