@@ -2,22 +2,26 @@
 //! `build` decides the binary binned-SAH tree node by node, `wide` opens
 //! those nodes straight into the 4-wide nodes that traversal uses (its
 //! parts built on all cores wait in an `arena`), and this file holds the
-//! traversal. Arrows run one way: `mod → wide → build`, `wide → arena`.
+//! traversal. Leaves of a few triangles are also packed into a
+//! `tri_block` each, which a single ray tests at once. Arrows run one way:
+//! `mod → wide → build`, `wide → arena`, `mod → tri_block → wide`.
 
 mod arena;
 mod build;
 mod packet;
+mod tri_block;
 mod wide;
 
 use super::{test_prim_by, AccelInfo, Intersector, Query, Tracer};
 use crate::aabb::ENTRY_SLACK;
-use crate::geometry::{Geometry, Hit};
+use crate::geometry::{Geometry, Hit, Kind};
 use crate::math::RayQuery;
 use crate::packet::{LaneHits, RayPacket};
 use crate::simd::lanes::Mask;
 use crate::stats::Counters;
 use crate::stopwatch::Stopwatch;
 use packet::PacketEntry;
+use tri_block::{TriangleBlock, TriangleBlocks};
 pub(crate) use wide::Node4;
 use wide::{Entry, Ray4, STACK};
 #[cfg(feature = "gpu")]
@@ -39,6 +43,8 @@ pub(crate) struct Bvh {
     wide: Vec<Node4>,
     /// Primitive ids in leaf order.
     prims: Vec<u32>,
+    /// The leaves of two to four triangles, packed for single rays.
+    blocks: TriangleBlocks,
     build_seconds: f64,
     /// The tree's SAH cost ([`wide::sah_cost`]).
     sah_cost: f64,
@@ -49,8 +55,9 @@ impl Bvh {
     pub fn build(geom: &Geometry) -> Bvh {
         let t0 = Stopwatch::start();
         let (wide, prims) = Node4::build(geom);
+        let blocks = TriangleBlocks::build(geom, &wide, &prims);
         let build_seconds = t0.seconds();
-        Bvh { sah_cost: wide::sah_cost(&wide), wide, prims, build_seconds }
+        Bvh { sah_cost: wide::sah_cost(&wide), wide, prims, blocks, build_seconds }
     }
 
     /// The 4-wide nodes, each before its children (node 0 is the root), and the
@@ -64,7 +71,9 @@ impl Bvh {
     pub fn info(&self) -> AccelInfo {
         AccelInfo {
             build_seconds: self.build_seconds,
-            bytes: self.wide.len() * std::mem::size_of::<Node4>() + self.prims.len() * 4,
+            bytes: self.wide.len() * std::mem::size_of::<Node4>()
+                + self.prims.len() * 4
+                + self.blocks.bytes(),
             nodes: self.wide.len(),
             summary: "BVH (binned SAH, 4-wide)",
             unit: "nodes",
@@ -77,6 +86,16 @@ impl Bvh {
     #[inline(always)]
     fn leaf(&self, e: &Entry) -> &[u32] {
         &self.prims[e.child as usize..(e.child + e.count) as usize]
+    }
+
+    /// The block of leaf `e` (whose ids are `ids`), if it has one: only a
+    /// leaf of triangles may, so a sphere leaf costs a comparison.
+    #[inline(always)]
+    fn triangle_block(&self, e: &Entry, ids: &[u32], geom: &Geometry) -> Option<TriangleBlock<'_>> {
+        if e.count < 2 || self.blocks.is_empty() || geom.locate(ids[0]).0 != Kind::Triangle {
+            return None;
+        }
+        self.blocks.get(e.child as usize, e.count as usize)
     }
 }
 
@@ -135,9 +154,16 @@ impl Bvh {
             // (A nearest-hit entry farther than the box limit: skipped.)
             if Q::ANY_HIT || e.t <= walk.box_limit {
                 if e.count > 0 {
-                    for &id in self.leaf(&e) {
-                        if walk.test(geom, id) {
+                    let ids = self.leaf(&e);
+                    if let Some(block) = self.triangle_block(&e, ids, geom) {
+                        if walk.test_block(geom, block, ids) {
                             break 'walk;
+                        }
+                    } else {
+                        for &id in ids {
+                            if walk.test(geom, id) {
+                                break 'walk;
+                            }
                         }
                     }
                 } else {
@@ -259,6 +285,43 @@ impl<'q, Q: Query> SingleRay<'q, Q> {
         let done = test_prim_by::<Q>(Geometry::intersect_spheres_inline, geom, id, q, best, self.t_max, c);
         self.bound();
         done
+    }
+
+    /// Test the triangles `ids` of `block` at once, then take their hits
+    /// in leaf order as [`SingleRay::test`] would take them one by one
+    /// (lanes left to the scalar test are tested so, in their turn); true
+    /// when an any-hit walk is done. (Tested against the best hit at the
+    /// leaf's entry, a lane that a nearer lane's hit would have cut off
+    /// cannot beat that hit: the result is the same.)
+    #[inline(always)]
+    fn test_block(&mut self, geom: &Geometry, block: TriangleBlock<'_>, ids: &[u32]) -> bool {
+        let limit = match self.best {
+            Some(b) if !Q::ANY_HIT => f32::from_bits(b.t.to_bits() + 1),
+            _ => self.t_max,
+        };
+        let hits = block.hit(self.q, limit);
+        for (lane, &id) in ids.iter().enumerate() {
+            if hits.slow >> lane & 1 != 0 {
+                if self.test(geom, id) {
+                    return true;
+                }
+                continue;
+            }
+            self.counters.tests[Kind::Triangle] += 1;
+            if hits.found >> lane & 1 == 0 {
+                continue;
+            }
+            let h = Hit { t: hits.t[lane], prim: id, u: hits.u[lane], v: hits.v[lane] };
+            if Q::ANY_HIT {
+                self.best = Some(h);
+                return true;
+            }
+            if h.beats(&self.best) {
+                self.best = Some(h);
+            }
+        }
+        self.bound();
+        false
     }
 
     /// The best hit, the counts added to `c`.
