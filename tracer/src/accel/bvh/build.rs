@@ -38,13 +38,12 @@ fn bin_count(n: usize) -> usize {
         _ => BINS,
     }
 }
-/// Leaves never hold more than this unless the primitives cannot be split.
+/// Leaves never hold more than this unless the primitives cannot be split;
+/// ranges this small are never split (see [`sah_split`]).
 const MAX_LEAF: usize = 4;
-/// Cost of a traversal step relative to a primitive test.
-const TRAVERSAL_COST: f32 = 1.0;
 
-/// A primitive's box and its id: 32 bytes, two aligned vectors whose
-/// fourth lanes carry the id and the sphere flag, so that reading a box is
+/// A primitive's box and its id: 32 bytes, two aligned vectors, the
+/// first's fourth lane carrying the id, so that reading a box is
 /// two aligned loads and a mask (not six scalar loads and shuffles), and
 /// moving one is two aligned 16-byte copies (the partition swaps one per
 /// primitive per level, and unaligned copies defeat store forwarding).
@@ -53,8 +52,7 @@ const TRAVERSAL_COST: f32 = 1.0;
 pub(super) struct BuildPrim {
     /// Box minimum; the fourth lane holds the id's bits.
     min: Vec4,
-    /// Box maximum; the fourth lane holds 1 for a sphere (see
-    /// [`small_sphere_leaf`]), else 0, as bits.
+    /// Box maximum; the fourth lane holds 0.
     max: Vec4,
 }
 
@@ -69,21 +67,13 @@ fn xyz(v: Vec4) -> Vec3A {
 
 impl BuildPrim {
     #[inline(always)]
-    fn new(bounds: Aabb, id: u32, sphere: bool) -> BuildPrim {
-        BuildPrim {
-            min: bounds.min.extend(f32::from_bits(id)),
-            max: bounds.max.extend(f32::from_bits(sphere.into())),
-        }
+    fn new(bounds: Aabb, id: u32) -> BuildPrim {
+        BuildPrim { min: bounds.min.extend(f32::from_bits(id)), max: bounds.max.extend(0.0) }
     }
 
     #[inline(always)]
     fn id(&self) -> u32 {
         self.min.w.to_bits()
-    }
-
-    #[inline(always)]
-    fn is_sphere(&self) -> bool {
-        self.max.w.to_bits() != 0
     }
 
     #[inline(always)]
@@ -101,11 +91,7 @@ impl BuildPrim {
 
 /// Every bounded primitive of `geom`, in id order.
 pub(super) fn build_prims(geom: &Geometry) -> Vec<BuildPrim> {
-    let spheres = geom.spheres.len() as u32; // (spheres have the first ids)
-    (0..geom.bounded_len() as u32)
-        .into_par_iter()
-        .map(|id| BuildPrim::new(geom.bounds(id), id, id < spheres))
-        .collect()
+    (0..geom.bounded_len() as u32).into_par_iter().map(|id| BuildPrim::new(geom.bounds(id), id)).collect()
 }
 
 /// Write the ids of a leaf's primitives to its slots of the id array.
@@ -197,12 +183,17 @@ struct Split {
 }
 
 /// Partition `prims` by the cheapest binned SAH split; `None` when a leaf is
-/// cheaper (or nothing can be split). The parts' boxes come from the split
+/// cheaper, nothing can be split, or there are at most [`MAX_LEAF`]
+/// primitives. Those stay one leaf whatever the SAH says: its cost model
+/// (a box step costs what a primitive test does) splits almost every such
+/// group, for no faster render and a slower build; a single ray tests a
+/// leaf of spheres one by one, cheaply, and one of triangles all at once
+/// (`tri_block`). The parts' boxes come from the split
 /// itself: their bounds are unions of bins, their centroid bounds are
 /// gathered by the partition, so no level reads its primitives twice.
 fn sah_split(prims: &mut [BuildPrim], boxes: &Boxes) -> Option<Split> {
     let n = prims.len();
-    if n <= 2 || small_sphere_leaf(prims) {
+    if n <= MAX_LEAF {
         return None;
     }
     match bin_count(n) {
@@ -210,16 +201,6 @@ fn sah_split(prims: &mut [BuildPrim], boxes: &Boxes) -> Option<Split> {
         8 => split_with::<8>(prims, boxes),
         _ => split_with::<BINS>(prims, boxes),
     }
-}
-
-/// Whether `prims` are at most [`MAX_LEAF`] spheres, which stay one leaf
-/// whatever the SAH says: its cost model (a box step costs what a
-/// primitive test does) splits almost every such group, for no faster
-/// render and a slower build. Triangles keep the SAH's choice: forced
-/// leaves cost them traversal speed.
-#[inline]
-fn small_sphere_leaf(prims: &[BuildPrim]) -> bool {
-    prims.len() <= MAX_LEAF && prims.iter().all(BuildPrim::is_sphere)
 }
 
 /// [`sah_split`] with `NB` bins per axis.
@@ -259,12 +240,8 @@ fn split_with<const NB: usize>(prims: &mut [BuildPrim], boxes: &Boxes) -> Option
             }
         }
     }
-    let (cost, axis, bin, left_bounds, right_bounds) = best?;
-    let area = boxes.bounds.half_area().max(f32::MIN_POSITIVE);
-    let split_cost = TRAVERSAL_COST + cost / area;
-    if n <= MAX_LEAF && split_cost >= n as f32 {
-        return None;
-    }
+    // (Past MAX_LEAF primitives a split always beats a leaf here.)
+    let (_, axis, bin, left_bounds, right_bounds) = best?;
     let (mid, left_centroids, right_centroids) = partition::<NB>(prims, cb, axis, bin);
     (mid > 0 && mid < n).then_some(Split {
         mid,
@@ -539,24 +516,23 @@ mod tests {
         }
     }
 
-    /// Up to four spheres stay one leaf even where the SAH would split
-    /// them; other primitives in the same boxes are split.
+    /// Up to four primitives stay one leaf even where the SAH would split
+    /// them; five are split.
     #[test]
-    fn small_sphere_groups_stay_leaves() {
-        let group = |n: usize, sphere: bool| -> Vec<BuildPrim> {
+    fn small_groups_stay_leaves() {
+        let group = |n: usize| -> Vec<BuildPrim> {
             (0..n)
                 .map(|i| {
                     let c = Vec3A::new(i as f32 * 10.0, 0.0, 0.0);
-                    BuildPrim::new(Aabb { min: c - Vec3A::ONE, max: c + Vec3A::ONE }, i as u32, sphere)
+                    BuildPrim::new(Aabb { min: c - Vec3A::ONE, max: c + Vec3A::ONE }, i as u32)
                 })
                 .collect()
         };
-        for n in 3..=MAX_LEAF {
-            assert!(sah_split(&mut group(n, true), &boxes_of(&group(n, true))).is_none(), "{n} spheres");
-            assert!(sah_split(&mut group(n, false), &boxes_of(&group(n, false))).is_some(), "{n} others");
+        for n in 1..=MAX_LEAF {
+            assert!(sah_split(&mut group(n), &boxes_of(&group(n))).is_none(), "{n} primitives");
         }
-        let five = group(MAX_LEAF + 1, true);
-        assert!(sah_split(&mut five.clone(), &boxes_of(&five)).is_some(), "more spheres than a leaf holds");
+        let five = group(MAX_LEAF + 1);
+        assert!(sah_split(&mut five.clone(), &boxes_of(&five)).is_some(), "more than a leaf holds");
     }
 
     /// Each bin holds the count and box of its primitives (both ranges are
@@ -572,7 +548,7 @@ mod tests {
         let prim = |i: u32, f: f32| {
             let c = Vec3A::new((f * 0.37).sin(), (f * 0.11).cos() * 3.0, (f * 0.05).fract());
             let r = 0.01 + (f * 0.7).sin().abs() * 0.1;
-            BuildPrim::new(Aabb { min: c - Vec3A::splat(r), max: c + Vec3A::splat(r) }, i, false)
+            BuildPrim::new(Aabb { min: c - Vec3A::splat(r), max: c + Vec3A::splat(r) }, i)
         };
         let small: Vec<BuildPrim> = (0..500).map(|i| prim(i, i as f32)).collect();
         let n = PARALLEL_SPLIT as u32 * 3 / 2;
