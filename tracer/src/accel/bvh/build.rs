@@ -182,13 +182,13 @@ struct Split {
     right: Boxes,
 }
 
-/// Partition `prims` by the cheapest binned SAH split; `None` when a leaf is
-/// cheaper, nothing can be split, or there are at most [`MAX_LEAF`]
-/// primitives. Those stay one leaf whatever the SAH says: its cost model
-/// (a box step costs what a primitive test does) splits almost every such
-/// group, for no faster render and a slower build; a single ray tests a
-/// leaf of spheres one by one, cheaply, and one of triangles all at once
-/// (`tri_block`). The parts' boxes come from the split
+/// Partition `prims` by the cheapest binned SAH split; `None` for at most
+/// [`MAX_LEAF`] primitives, or when nothing can be split. So few stay one
+/// leaf whatever the SAH says: its cost model (a box step costs what a
+/// primitive test does) splits almost every such group, for no faster
+/// render and a slower build; a single ray tests a leaf of spheres one by
+/// one, cheaply, and one of triangles all at once (`tri_block`). The
+/// parts' boxes come from the split
 /// itself: their bounds are unions of bins, their centroid bounds are
 /// gathered by the partition, so no level reads its primitives twice.
 fn sah_split(prims: &mut [BuildPrim], boxes: &Boxes) -> Option<Split> {
@@ -240,7 +240,8 @@ fn split_with<const NB: usize>(prims: &mut [BuildPrim], boxes: &Boxes) -> Option
             }
         }
     }
-    // (Past MAX_LEAF primitives a split always beats a leaf here.)
+    // (Only ranges past MAX_LEAF get here: the SAH picks where to split
+    // them, not whether.)
     let (_, axis, bin, left_bounds, right_bounds) = best?;
     let (mid, left_centroids, right_centroids) = partition::<NB>(prims, cb, axis, bin);
     (mid > 0 && mid < n).then_some(Split {

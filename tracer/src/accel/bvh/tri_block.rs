@@ -80,6 +80,7 @@ impl TriangleBlocks {
         };
         // Counted first, so that every float is written once, where it stays.
         let floats = blocked().map(|(_, ids)| ROWS * ids.len()).sum::<usize>() + WIDTH - 1;
+        // (No block: only the padding. Offsets past u32: no blocks.)
         if floats < ROWS || u32::try_from(floats).is_err() {
             return TriangleBlocks::default();
         }
