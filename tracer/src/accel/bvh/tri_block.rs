@@ -83,7 +83,9 @@ impl TriangleBlocks {
         if total < ROWS || u32::try_from(total).is_err() {
             return TriangleBlocks::default();
         }
-        let mut rows = vec![f32::NAN; total];
+        // (Zeroed memory is not written until it is used.)
+        let mut rows = vec![0.0; total];
+        rows[total - (WIDTH - 1)..].fill(f32::NAN);
         let mut parts = Vec::with_capacity(floats.len());
         let mut rest = rows.as_mut_slice();
         for &n in &floats {
