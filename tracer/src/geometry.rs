@@ -497,7 +497,7 @@ fn intersect_triangle_permuted(
     let inv = 1.0 / det;
     let max = |p: f32, q: f32, r: f32| max_of(max_of(p.abs(), q.abs()), r.abs());
     let (max_x, max_y, max_z) = (max(ax, bx, cx), max(ay, by, cy), max(az, bz, cz));
-    if t <= triangle_t_error(max_x, max_y, max_z, max(u, v, w), inv) {
+    if t <= triangle_t_error(max_x, max_y, max_z, max(u, v, w), inv.abs()) {
         return None;
     }
     Some((t, v * inv, w * inv))

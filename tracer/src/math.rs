@@ -1,6 +1,7 @@
 //! Rays and the small vector helpers the tracer shares.
 
 use glam::{Vec3A, Vec3Swizzles};
+use std::ops::{Add, Mul};
 
 /// A ray with unit direction; `t` along it is a distance.
 #[derive(Debug, Clone, Copy)]
@@ -105,16 +106,21 @@ pub(crate) fn max_of(a: f32, b: f32) -> f32 {
 /// The bound of pbrt-v4 (section 6.8.4) on the rounding error of the
 /// watertight triangle test's distance: from the largest sheared vertex
 /// coordinates (`max_x`, `max_y`, and `max_z` already scaled by Sz), the
-/// largest edge function `max_e`, and 1/det. A hit nearer than this may lie
-/// behind the origin: a ray leaving a large polygon from (nearly) its own
-/// plane would otherwise find that polygon again.
+/// largest edge function `max_e`, and |1/det|. A hit nearer than this may
+/// lie behind the origin: a ray leaving a large polygon from (nearly) its
+/// own plane would otherwise find that polygon again. On `f32`, or lane by
+/// lane on a vector of them (the same operations in the same order).
 #[inline(always)]
-pub(crate) fn triangle_t_error(max_x: f32, max_y: f32, max_z: f32, max_e: f32, inv_det: f32) -> f32 {
+pub(crate) fn triangle_t_error<T>(max_x: T, max_y: T, max_z: T, max_e: T, inv_det_abs: T) -> T
+where
+    T: Copy + Add<Output = T> + Mul<Output = T>,
+    f32: Mul<T, Output = T>,
+{
     let delta_z = gamma(3) * max_z;
     let delta_x = gamma(5) * (max_x + max_z);
     let delta_y = gamma(5) * (max_y + max_z);
     let delta_e = 2.0 * (gamma(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
-    3.0 * (gamma(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * inv_det.abs()
+    3.0 * (gamma(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * inv_det_abs
 }
 
 /// An orthonormal basis around a unit vector `n` (Duff et al., "Building an

@@ -310,19 +310,31 @@ pub(crate) fn test_prim_by<Q: Query>(
     t_max: f32,
     c: &mut Counters,
 ) -> bool {
-    let limit = match best {
+    c.tests[geom.locate(id).0] += 1;
+    intersect(geom, id, q, hit_limit::<Q>(best, t_max)).is_some_and(|h| take_hit::<Q>(best, h))
+}
+
+/// The distance a primitive is tested below, given `best`: for
+/// [`Nearest`], the best hit's distance nudged up one ulp (so that an
+/// equal-distance hit with a lower id can still win the tie), else `t_max`.
+#[inline(always)]
+pub(crate) fn hit_limit<Q: Query>(best: &Option<Hit>, t_max: f32) -> f32 {
+    match best {
         Some(b) if !Q::ANY_HIT => f32::from_bits(b.t.to_bits() + 1),
         _ => t_max,
-    };
-    c.tests[geom.locate(id).0] += 1;
-    if let Some(h) = intersect(geom, id, q, limit) {
-        if Q::ANY_HIT {
-            *best = Some(h);
-            return true;
-        }
-        if h.beats(best) {
-            *best = Some(h);
-        }
+    }
+}
+
+/// Take a hit found below [`hit_limit`] into `best`: for [`Nearest`] the
+/// better of the two; for [`AnyHit`] the hit, answering true (stop).
+#[inline(always)]
+pub(crate) fn take_hit<Q: Query>(best: &mut Option<Hit>, h: Hit) -> bool {
+    if Q::ANY_HIT {
+        *best = Some(h);
+        return true;
+    }
+    if h.beats(best) {
+        *best = Some(h);
     }
     false
 }

@@ -12,7 +12,7 @@ mod packet;
 mod tri_block;
 mod wide;
 
-use super::{test_prim_by, AccelInfo, Intersector, Query, Tracer};
+use super::{hit_limit, take_hit, test_prim_by, AccelInfo, Intersector, Query, Tracer};
 use crate::aabb::ENTRY_SLACK;
 use crate::geometry::{Geometry, Hit, Kind};
 use crate::math::RayQuery;
@@ -295,11 +295,7 @@ impl<'q, Q: Query> SingleRay<'q, Q> {
     /// cannot beat that hit: the result is the same.)
     #[inline(always)]
     fn test_block(&mut self, geom: &Geometry, block: TriangleBlock<'_>, ids: &[u32]) -> bool {
-        let limit = match self.best {
-            Some(b) if !Q::ANY_HIT => f32::from_bits(b.t.to_bits() + 1),
-            _ => self.t_max,
-        };
-        let hits = block.hit(self.q, limit);
+        let hits = block.hit(self.q, hit_limit::<Q>(&self.best, self.t_max));
         for (lane, &id) in ids.iter().enumerate() {
             if hits.slow >> lane & 1 != 0 {
                 if self.test(geom, id) {
@@ -312,12 +308,8 @@ impl<'q, Q: Query> SingleRay<'q, Q> {
                 continue;
             }
             let h = Hit { t: hits.t[lane], prim: id, u: hits.u[lane], v: hits.v[lane] };
-            if Q::ANY_HIT {
-                self.best = Some(h);
+            if take_hit::<Q>(&mut self.best, h) {
                 return true;
-            }
-            if h.beats(&self.best) {
-                self.best = Some(h);
             }
         }
         self.bound();

@@ -12,7 +12,7 @@
 
 use super::wide::Node4;
 use crate::geometry::{Geometry, Kind};
-use crate::math::{gamma, RayQuery};
+use crate::math::{triangle_t_error, RayQuery};
 use glam::Vec4;
 use rayon::prelude::*;
 
@@ -205,24 +205,13 @@ impl TriangleBlock<'_> {
         let inv = Vec4::ONE / det;
         let max = |p: Vec4, q: Vec4, r: Vec4| max_of(max_of(p.abs(), q.abs()), r.abs());
         let (max_x, max_y, max_z) = (max(ax, bx, cx), max(ay, by, cy), max(az, bz, cz));
-        let error = t_error(max_x, max_y, max_z, max(u, v, w), inv);
+        let error = triangle_t_error(max_x, max_y, max_z, max(u, v, w), inv.abs());
         out.found = inside & !t.cmple(error).bitmask();
         out.t = t.to_array();
         out.u = (v * inv).to_array();
         out.v = (w * inv).to_array();
         out
     }
-}
-
-/// [`crate::math::triangle_t_error`] on every lane, operation for
-/// operation.
-#[inline(always)]
-fn t_error(max_x: Vec4, max_y: Vec4, max_z: Vec4, max_e: Vec4, inv_det: Vec4) -> Vec4 {
-    let delta_z = gamma(3) * max_z;
-    let delta_x = gamma(5) * (max_x + max_z);
-    let delta_y = gamma(5) * (max_y + max_z);
-    let delta_e = 2.0 * (gamma(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
-    3.0 * (gamma(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * inv_det.abs()
 }
 
 #[cfg(test)]
