@@ -1,7 +1,7 @@
 //! Scenes and random streams for the crate's unit tests.
 
 use crate::accel::{Bvh, Tracer};
-use crate::geometry::{Cull, Geometry, Kind, PrimInfo, Sphere};
+use crate::geometry::{Cull, Geometry, Kind, PrimInfo, Sphere, Triangle};
 use crate::material::WhittedMaterial;
 use crate::math::{Ray, RayQuery};
 use crate::packet::surface::surfaces;
@@ -29,6 +29,17 @@ pub fn spheres(n: usize, mut place: impl FnMut(usize) -> (Vec3A, f32)) -> Geomet
     for i in 0..n {
         let (center, radius) = place(i);
         g.spheres.push(Sphere::new(center, radius));
+        g.info.push(PrimInfo::new(0, Cull::None, None, 0));
+    }
+    g.assign_ids();
+    g
+}
+
+/// Two-sided triangles with vertices `v`.
+pub fn triangles(v: &[[[f32; 3]; 3]]) -> Geometry {
+    let mut g = Geometry::default();
+    for t in v {
+        g.triangles.push(Triangle { v: t.map(Vec3A::from_array) });
         g.info.push(PrimInfo::new(0, Cull::None, None, 0));
     }
     g.assign_ids();

@@ -10,8 +10,9 @@
 //! the leaves end up as ranges, and the array's order is the primitive
 //! order leaves index.
 
+use super::presplit::Presplit;
 use crate::aabb::Aabb;
-use crate::geometry::Geometry;
+use crate::geometry::{Geometry, Kind};
 use crate::simd::vector::prefetch;
 use glam::{BVec4A, Vec3A, Vec4};
 use rayon::prelude::*;
@@ -72,12 +73,12 @@ impl BuildPrim {
     }
 
     #[inline(always)]
-    fn id(&self) -> u32 {
+    pub(super) fn id(&self) -> u32 {
         self.min.w.to_bits()
     }
 
     #[inline(always)]
-    fn bounds(&self) -> Aabb {
+    pub(super) fn bounds(&self) -> Aabb {
         Aabb { min: xyz(self.min), max: xyz(self.max) }
     }
 
@@ -89,9 +90,42 @@ impl BuildPrim {
     }
 }
 
-/// Every bounded primitive of `geom`, in id order.
+/// Every bounded primitive of `geom`, in id order: the build's
+/// references, several for a triangle [`Presplit`] cuts.
 pub(super) fn build_prims(geom: &Geometry) -> Vec<BuildPrim> {
-    (0..geom.bounded_len() as u32).into_par_iter().map(|id| BuildPrim::new(geom.bounds(id), id)).collect()
+    match Presplit::plan(geom) {
+        None => (0..geom.bounded_len() as u32)
+            .into_par_iter()
+            .map(|id| BuildPrim::new(geom.bounds(id), id))
+            .collect(),
+        Some(plan) => references(geom, &plan),
+    }
+}
+
+/// [`build_prims`] with triangles as the pieces `plan` cuts them into, each
+/// a reference to its triangle's id.
+fn references(geom: &Geometry, plan: &Presplit) -> Vec<BuildPrim> {
+    /// Ids per run, each run's references gathered on one thread.
+    const RUN: usize = 1 << 12;
+    let n = geom.bounded_len();
+    let runs: Vec<Vec<BuildPrim>> = (0..n.div_ceil(RUN))
+        .into_par_iter()
+        .map(|r| {
+            let mut out = Vec::with_capacity(RUN);
+            for id in (r * RUN..n.min((r + 1) * RUN)).map(|id| id as u32) {
+                match geom.locate(id) {
+                    (Kind::Triangle, i) => plan.pieces(geom, i, |b| out.push(BuildPrim::new(b, id))),
+                    _ => out.push(BuildPrim::new(geom.bounds(id), id)),
+                }
+            }
+            out
+        })
+        .collect();
+    let mut prims = Vec::with_capacity(plan.references);
+    for run in runs {
+        prims.extend_from_slice(&run);
+    }
+    prims
 }
 
 /// Write the ids of a leaf's primitives to its slots of the id array.

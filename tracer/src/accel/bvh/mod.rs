@@ -2,13 +2,16 @@
 //! `build` decides the binary binned-SAH tree node by node, `wide` opens
 //! those nodes straight into the 4-wide nodes that traversal uses (its
 //! parts built on all cores wait in an `arena`), and this file holds the
-//! traversal. Leaves of a few triangles are also packed into a
-//! `tri_block` each, which a single ray tests at once. Arrows run one way:
-//! `mod → wide → build`, `wide → arena`, `mod → tri_block → wide`.
+//! traversal. Before the build, `presplit` gives long thin triangles
+//! several references with small boxes. Leaves of a few triangles are
+//! also packed into a `tri_block` each, which a single ray tests at once.
+//! Arrows run one way: `mod → wide → build → presplit`, `wide → arena`,
+//! `mod → tri_block → wide`.
 
 mod arena;
 mod build;
 mod packet;
+mod presplit;
 mod tri_block;
 mod wide;
 
