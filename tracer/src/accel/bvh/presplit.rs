@@ -26,9 +26,10 @@ use crate::geometry::Geometry;
 use glam::{DVec3, Vec3A};
 use rayon::prelude::*;
 
-/// Extra references at most, as a share of the triangle count (Karras and
-/// Aila's).
-const BUDGET: f64 = 0.3;
+/// Extra references at most, as a share of the triangle count. Karras and
+/// Aila spend 30%; with only slivers cut, half that bought gears_s4 the
+/// same ray rates at half the build cost.
+const BUDGET: f64 = 0.15;
 
 /// A triangle is a sliver, and may be cut, if its box's area is more than
 /// this many times the least it could be cut to ([`ideal_area`]). A
@@ -297,16 +298,17 @@ mod tests {
     /// budget is kept.
     #[test]
     fn the_budget_goes_to_the_slivers() {
-        // A long sliver across the scene, then nine small triangles.
+        // A sliver across the scene, then nineteen small triangles.
         let mut tris = vec![[[-4.0, -4.0, 0.0], [4.0, 4.0, 0.0], [4.0, 4.01, 0.0]]];
-        for k in 0..9 {
-            let (x, y) = ((k % 3) as f32 * 3.0 - 4.0, (k / 3) as f32 * 3.0 - 4.0);
+        for k in 0..19 {
+            let (x, y) = ((k % 5) as f32 * 1.9 - 4.0, (k / 5) as f32 * 1.9 - 4.0);
             tris.push([[x, y, 1.0], [x + 0.1, y, 1.0], [x, y + 0.1, 1.0]]);
         }
         let g = crate::testing::triangles(&tris);
         let plan = Presplit::plan(&g).expect("a sliver to split");
-        assert_eq!(plan.splits, [3, 0, 0, 0, 0, 0, 0, 0, 0, 0], "all three splits of the budget");
-        assert_eq!(plan.references, 13);
+        assert_eq!(plan.splits[1..], [0; 19]);
+        assert_eq!(plan.splits[0], 3, "all three splits of the budget");
+        assert_eq!(plan.references, 23);
         let mut n = 0;
         plan.pieces(&g, 0, |_| n += 1);
         assert_eq!(n, 4);
@@ -353,7 +355,7 @@ mod tests {
             let g = gears(seed, 6);
             let plan = Presplit::plan(&g).expect("slivers to cut");
             assert!(
-                plan.references > g.bounded_len() + g.bounded_len() / 5,
+                plan.references > g.bounded_len() + g.bounded_len() / 10,
                 "{} references",
                 plan.references
             );
@@ -399,7 +401,7 @@ mod tests {
             prims.iter().map(|p| (p.id(), p.bounds())).collect::<Vec<_>>()
         };
         let one = on(1);
-        assert!(one.len() > g.bounded_len() + g.bounded_len() / 5, "{} references", one.len());
+        assert!(one.len() > g.bounded_len() + g.bounded_len() / 10, "{} references", one.len());
         assert!(one == on(3), "one thread against three");
     }
 }
