@@ -233,7 +233,6 @@ impl Geometry {
     }
 
     /// The first id of kind `k`.
-    #[cfg(feature = "gpu")]
     pub fn first_id(&self, k: Kind) -> u32 {
         self.start[k as usize]
     }

@@ -103,28 +103,22 @@ pub(super) fn build_prims(geom: &Geometry) -> Vec<BuildPrim> {
 }
 
 /// [`build_prims`] with triangles as the pieces `plan` cuts them into, each
-/// a reference to its triangle's id.
+/// a reference to its triangle's id: every primitive in id order (a cut
+/// triangle as its first piece), written in place on all cores, then the
+/// cut triangles' other pieces.
 fn references(geom: &Geometry, plan: &Presplit) -> Vec<BuildPrim> {
-    /// Ids per run, each run's references gathered on one thread.
-    const RUN: usize = 1 << 12;
-    let n = geom.bounded_len();
-    let runs: Vec<Vec<BuildPrim>> = (0..n.div_ceil(RUN))
-        .into_par_iter()
-        .map(|r| {
-            let mut out = Vec::with_capacity(RUN);
-            for id in (r * RUN..n.min((r + 1) * RUN)).map(|id| id as u32) {
-                match geom.locate(id) {
-                    (Kind::Triangle, i) => plan.pieces(geom, i, |b| out.push(BuildPrim::new(b, id))),
-                    _ => out.push(BuildPrim::new(geom.bounds(id), id)),
-                }
-            }
-            out
-        })
-        .collect();
+    let first = |id: u32| match geom.locate(id) {
+        (Kind::Triangle, i) => plan.pieces(geom, i).next().unwrap_or(Aabb::EMPTY),
+        _ => geom.bounds(id),
+    };
     let mut prims = Vec::with_capacity(plan.references);
-    for run in runs {
-        prims.extend_from_slice(&run);
-    }
+    prims.par_extend((0..geom.bounded_len() as u32).into_par_iter().map(|id| BuildPrim::new(first(id), id)));
+    let tri = geom.first_id(Kind::Triangle);
+    let rest: Vec<BuildPrim> = plan
+        .cut()
+        .flat_map_iter(|i| plan.pieces(geom, i).skip(1).map(move |b| BuildPrim::new(b, tri + i as u32)))
+        .collect();
+    prims.extend_from_slice(&rest);
     prims
 }
 

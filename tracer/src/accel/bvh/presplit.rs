@@ -44,6 +44,8 @@ const MAX_VERTS: usize = 5;
 pub(super) struct Presplit {
     /// Splits per triangle (index in `Geometry::triangles`).
     splits: Vec<u32>,
+    /// The triangles with splits, in order.
+    cut: Vec<u32>,
     /// References in all: the build's primitives, pieces counted.
     pub references: usize,
 }
@@ -68,20 +70,24 @@ impl Presplit {
         let scale = fill(&candidates, budget, budget as f64 / total);
         let splits: Vec<u32> = priority.par_iter().map(|p| (p * scale) as u32).collect();
         let extra: usize = splits.par_iter().map(|&s| s as usize).sum();
-        (extra > 0).then_some(Presplit { splits, references: geom.bounded_len() + extra })
+        let cut = (0..splits.len() as u32).filter(|&i| splits[i as usize] > 0).collect();
+        (extra > 0).then_some(Presplit { splits, cut, references: geom.bounded_len() + extra })
     }
 
-    /// The boxes of triangle `i`'s pieces, passed to `out` in order along
-    /// its longest axis: its box alone when it gets no splits. Together
-    /// they hold the whole triangle, each inside its box.
-    pub fn pieces(&self, geom: &Geometry, i: usize, mut out: impl FnMut(Aabb)) {
+    /// The triangles (indices in `Geometry::triangles`) with splits.
+    pub fn cut(&self) -> impl IndexedParallelIterator<Item = usize> + '_ {
+        self.cut.par_iter().map(|&i| i as usize)
+    }
+
+    /// The boxes of triangle `i`'s pieces, in order along its longest axis:
+    /// its box alone when it gets no splits, else one per slab between
+    /// equally spaced planes across that axis (a slab may be flat where
+    /// the planes round to the same float). Together they hold the whole
+    /// triangle, each inside its box.
+    pub fn pieces<'a>(&self, geom: &'a Geometry, i: usize) -> impl Iterator<Item = Aabb> + 'a {
         let v = &geom.triangles[i].v;
         let bounds = triangle_box(v);
         let n = self.splits[i] + 1;
-        if n == 1 {
-            out(bounds);
-            return;
-        }
         let size = bounds.size();
         let axis = if size.x >= size.y && size.x >= size.z {
             0
@@ -91,17 +97,14 @@ impl Presplit {
             2
         };
         let (start, length) = (bounds.min[axis] as f64, size[axis] as f64);
+        let plane = move |k: u32| match k {
+            0 => bounds.min[axis],
+            _ if k == n => bounds.max[axis],
+            _ => (start + length * k as f64 / n as f64) as f32,
+        };
         let tri = v.map(|p| p.as_dvec3());
-        let mut lo = bounds.min[axis];
-        for k in 1..=n {
-            let hi = if k == n { bounds.max[axis] } else { (start + length * k as f64 / n as f64) as f32 };
-            // (Planes closer than a float apart: the slab is merged with the next.)
-            if hi <= lo && k < n {
-                continue;
-            }
-            out(slab_box(&tri, &bounds, axis, lo, hi));
-            lo = hi;
-        }
+        (0..n)
+            .map(move |k| if n == 1 { bounds } else { slab_box(&tri, &bounds, axis, plane(k), plane(k + 1)) })
     }
 }
 
@@ -263,11 +266,10 @@ mod tests {
             };
             let v = [a, b, c];
             let splits = k as u32 % 9;
-            let plan = Presplit { splits: vec![splits], references: 0 };
+            let plan = Presplit { splits: vec![splits], cut: vec![0], references: 0 };
             let g = crate::testing::triangles(&[v.map(|p| p.to_array())]);
-            let mut boxes = Vec::new();
-            plan.pieces(&g, 0, |b| boxes.push(b));
-            assert!(!boxes.is_empty() && boxes.len() <= splits as usize + 1, "{} pieces", boxes.len());
+            let boxes: Vec<Aabb> = plan.pieces(&g, 0).collect();
+            assert_eq!(boxes.len(), splits as usize + 1);
             cut += usize::from(boxes.len() > 1);
             let bounds = triangle_box(&v);
             for b in &boxes {
@@ -287,10 +289,9 @@ mod tests {
     #[test]
     fn a_sliver_s_pieces_hug_it() {
         let v = [Vec3A::new(-4.0, -4.0, 0.0), Vec3A::new(4.0, 4.0, 0.0), Vec3A::new(4.0, 4.01, 0.0)];
-        let plan = Presplit { splits: vec![7], references: 0 };
+        let plan = Presplit { splits: vec![7], cut: vec![0], references: 0 };
         let g = crate::testing::triangles(&[v.map(|p| p.to_array())]);
-        let mut pieces = 0.0;
-        plan.pieces(&g, 0, |b| pieces += area(&b));
+        let pieces: f32 = plan.pieces(&g, 0).map(|b| area(&b)).sum();
         assert!(pieces < area(&triangle_box(&v)) / 6.0, "{pieces}");
     }
 
@@ -309,9 +310,8 @@ mod tests {
         assert_eq!(plan.splits[1..], [0; 19]);
         assert_eq!(plan.splits[0], 3, "all three splits of the budget");
         assert_eq!(plan.references, 23);
-        let mut n = 0;
-        plan.pieces(&g, 0, |_| n += 1);
-        assert_eq!(n, 4);
+        assert_eq!(plan.pieces(&g, 0).count(), 4);
+        assert_eq!(plan.cut, [0]);
     }
 
     /// Gears as the SPD draws them: star polygons of many sides, flat and
