@@ -108,7 +108,7 @@ pub(super) fn build_prims(geom: &Geometry) -> Vec<BuildPrim> {
 /// cut triangles' other pieces.
 fn references(geom: &Geometry, plan: &Presplit) -> Vec<BuildPrim> {
     let first = |id: u32| match geom.locate(id) {
-        (Kind::Triangle, i) => plan.pieces(geom, i).next().unwrap_or(Aabb::EMPTY),
+        (Kind::Triangle, i) => plan.pieces(geom, i, 0).next().unwrap_or_else(|| geom.bounds(id)),
         _ => geom.bounds(id),
     };
     let mut prims = Vec::with_capacity(plan.references);
@@ -116,7 +116,7 @@ fn references(geom: &Geometry, plan: &Presplit) -> Vec<BuildPrim> {
     let tri = geom.first_id(Kind::Triangle);
     let rest: Vec<BuildPrim> = plan
         .cut()
-        .flat_map_iter(|i| plan.pieces(geom, i).skip(1).map(move |b| BuildPrim::new(b, tri + i as u32)))
+        .flat_map_iter(|i| plan.pieces(geom, i, 1).map(move |b| BuildPrim::new(b, tri + i as u32)))
         .collect();
     prims.extend_from_slice(&rest);
     prims
