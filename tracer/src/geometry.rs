@@ -59,6 +59,15 @@ pub(crate) struct Triangle {
     pub v: [Vec3A; 3],
 }
 
+impl Triangle {
+    /// The triangle's box.
+    #[inline]
+    pub fn bounds(&self) -> Aabb {
+        let [a, b, c] = self.v;
+        Aabb::new(a.min(b).min(c), a.max(b).max(c))
+    }
+}
+
 /// An open cone or cylinder.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Cone {
@@ -271,10 +280,7 @@ impl Geometry {
                 let s = self.spheres[i];
                 Aabb::new(s.center() - s.radius(), s.center() + s.radius())
             }
-            (Kind::Triangle, i) => {
-                let [a, b, c] = self.triangles[i].v;
-                Aabb::new(a.min(b).min(c), a.max(b).max(c))
-            }
+            (Kind::Triangle, i) => self.triangles[i].bounds(),
             (Kind::Cone, i) => {
                 let c = self.cones[i];
                 let apex = c.base + c.axis * c.height;

@@ -108,7 +108,9 @@ pub(super) fn build_prims(geom: &Geometry) -> Vec<BuildPrim> {
 /// cut triangles' other pieces.
 fn references(geom: &Geometry, plan: &Presplit) -> Vec<BuildPrim> {
     let first = |id: u32| match geom.locate(id) {
-        (Kind::Triangle, i) => plan.pieces(geom, i, 0).next().unwrap_or_else(|| geom.bounds(id)),
+        (Kind::Triangle, i) if plan.is_cut(i) => {
+            plan.pieces(geom, i, 0).next().unwrap_or_else(|| geom.bounds(id))
+        }
         _ => geom.bounds(id),
     };
     let mut prims = Vec::with_capacity(plan.references);

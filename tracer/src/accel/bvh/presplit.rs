@@ -22,7 +22,7 @@
 //! in a fixed order, so the references do not depend on the thread count.
 
 use crate::aabb::Aabb;
-use crate::geometry::Geometry;
+use crate::geometry::{Geometry, Triangle};
 use glam::{DVec3, Vec3A};
 use rayon::prelude::*;
 
@@ -44,8 +44,6 @@ const MAX_VERTS: usize = 5;
 pub(super) struct Presplit {
     /// Splits per triangle (index in `Geometry::triangles`).
     splits: Vec<u32>,
-    /// The triangles with splits, in order.
-    cut: Vec<u32>,
     /// References in all: the build's primitives, pieces counted.
     pub references: usize,
 }
@@ -56,11 +54,13 @@ impl Presplit {
     pub fn plan(geom: &Geometry) -> Option<Presplit> {
         let tris = &geom.triangles;
         let budget = (BUDGET * tris.len() as f64) as u64;
-        if budget == 0 || geom.bounded_len() > u32::MAX as usize / 2 || !tris.par_iter().any(|t| sliver(&t.v))
+        if budget == 0
+            || geom.bounded_len() > u32::MAX as usize / 2
+            || !tris.par_iter().any(|t| waste(t).is_some())
         {
             return None;
         }
-        let priority: Vec<f64> = tris.par_iter().map(|t| priority(&t.v)).collect();
+        let priority: Vec<f64> = tris.par_iter().map(priority).collect();
         let candidates: Vec<f64> = priority.iter().copied().filter(|&p| p > 0.0).collect();
         // Summed in order: the same splits on any thread count.
         let total: f64 = candidates.iter().sum();
@@ -70,13 +70,18 @@ impl Presplit {
         let scale = fill(&candidates, budget, budget as f64 / total);
         let splits: Vec<u32> = priority.par_iter().map(|p| (p * scale) as u32).collect();
         let extra: usize = splits.par_iter().map(|&s| s as usize).sum();
-        let cut = (0..splits.len() as u32).filter(|&i| splits[i as usize] > 0).collect();
-        (extra > 0).then_some(Presplit { splits, cut, references: geom.bounded_len() + extra })
+        (extra > 0).then_some(Presplit { splits, references: geom.bounded_len() + extra })
     }
 
-    /// The triangles (indices in `Geometry::triangles`) with splits.
-    pub fn cut(&self) -> impl IndexedParallelIterator<Item = usize> + '_ {
-        self.cut.par_iter().map(|&i| i as usize)
+    /// Whether triangle `i` (index in `Geometry::triangles`) is cut.
+    #[inline]
+    pub fn is_cut(&self, i: usize) -> bool {
+        self.splits[i] > 0
+    }
+
+    /// The triangles that are cut, in order.
+    pub fn cut(&self) -> impl ParallelIterator<Item = usize> + '_ {
+        (0..self.splits.len()).into_par_iter().filter(|&i| self.is_cut(i))
     }
 
     /// The boxes of triangle `i`'s pieces from piece `from` on, in order
@@ -86,7 +91,7 @@ impl Presplit {
     /// pieces hold the whole triangle, each inside its box.
     pub fn pieces<'a>(&self, geom: &'a Geometry, i: usize, from: u32) -> impl Iterator<Item = Aabb> + 'a {
         let v = &geom.triangles[i].v;
-        let bounds = triangle_box(v);
+        let bounds = geom.triangles[i].bounds();
         let n = self.splits[i] + 1;
         let size = bounds.size();
         let axis = if size.x >= size.y && size.x >= size.z {
@@ -130,25 +135,19 @@ fn fill(priority: &[f64], budget: u64, start: f64) -> f64 {
     lo
 }
 
-/// The box of a triangle.
-fn triangle_box(v: &[Vec3A; 3]) -> Aabb {
-    Aabb::new(v[0].min(v[1]).min(v[2]), v[0].max(v[1]).max(v[2]))
-}
-
-/// Whether the triangle is a sliver ([`SLIVER`]). False for NaN, and for a
-/// triangle of no area, which no ray hits.
-fn sliver(v: &[Vec3A; 3]) -> bool {
-    let ideal = ideal_area(v);
-    area(&triangle_box(v)) > SLIVER * ideal && ideal > 0.0
+/// The box area a sliver wastes: its box's surface area less the least
+/// it could be cut to ([`ideal_area`]); `None` for a triangle that is not
+/// a sliver ([`SLIVER`]), or has NaN coordinates or no area (no ray hits
+/// it).
+fn waste(t: &Triangle) -> Option<f32> {
+    let (box_area, ideal) = (area(&t.bounds()), ideal_area(&t.v));
+    (box_area > SLIVER * ideal && ideal > 0.0).then_some(box_area - ideal)
 }
 
 /// A sliver's priority for splits, the cube root of the box area it wastes
 /// (Karras and Aila); zero for a triangle that is not a sliver.
-fn priority(v: &[Vec3A; 3]) -> f64 {
-    if !sliver(v) {
-        return 0.0;
-    }
-    let p = (area(&triangle_box(v)) - ideal_area(v)).cbrt() as f64;
+fn priority(t: &Triangle) -> f64 {
+    let p = waste(t).map_or(0.0, |w| w.cbrt() as f64);
     if p.is_finite() && p > 0.0 {
         p
     } else {
@@ -266,12 +265,12 @@ mod tests {
             };
             let v = [a, b, c];
             let splits = k as u32 % 9;
-            let plan = Presplit { splits: vec![splits], cut: vec![0], references: 0 };
+            let plan = Presplit { splits: vec![splits], references: 0 };
             let g = crate::testing::triangles(&[v.map(|p| p.to_array())]);
             let boxes: Vec<Aabb> = plan.pieces(&g, 0, 0).collect();
             assert_eq!(boxes.len(), splits as usize + 1);
             cut += usize::from(boxes.len() > 1);
-            let bounds = triangle_box(&v);
+            let bounds = g.triangles[0].bounds();
             for b in &boxes {
                 assert!(
                     b.min.cmpge(bounds.min).all() && b.max.cmple(bounds.max).all(),
@@ -289,10 +288,10 @@ mod tests {
     #[test]
     fn a_sliver_s_pieces_hug_it() {
         let v = [Vec3A::new(-4.0, -4.0, 0.0), Vec3A::new(4.0, 4.0, 0.0), Vec3A::new(4.0, 4.01, 0.0)];
-        let plan = Presplit { splits: vec![7], cut: vec![0], references: 0 };
+        let plan = Presplit { splits: vec![7], references: 0 };
         let g = crate::testing::triangles(&[v.map(|p| p.to_array())]);
         let pieces: f32 = plan.pieces(&g, 0, 0).map(|b| area(&b)).sum();
-        assert!(pieces < area(&triangle_box(&v)) / 6.0, "{pieces}");
+        assert!(pieces < area(&g.triangles[0].bounds()) / 6.0, "{pieces}");
     }
 
     /// Slivers get the splits, small well-shaped triangles none, and the
@@ -315,7 +314,7 @@ mod tests {
             plan.pieces(&g, 0, 1).collect::<Vec<_>>(),
             plan.pieces(&g, 0, 0).skip(1).collect::<Vec<_>>()
         );
-        assert_eq!(plan.cut, [0]);
+        assert_eq!(plan.cut().collect::<Vec<_>>(), [0]);
     }
 
     /// Gears as the SPD draws them: star polygons of many sides, flat and
