@@ -93,18 +93,28 @@ impl TriangleBlocks {
             parts.push(part);
             rest = tail;
         }
-        nodes.par_chunks(NODE_RUN).zip(parts).for_each(|(run, part)| {
-            let mut at = 0;
-            for (_, ids) in blocked(run) {
-                write_block(geom, ids, &mut part[at..at + ROWS * ids.len()]);
-                at += ROWS * ids.len();
-            }
-        });
+        // Each run's blocks, written, with where each leaf starts in the
+        // ids and its block's offset within the run's part.
+        let written: Vec<Vec<(usize, usize)>> = nodes
+            .par_chunks(NODE_RUN)
+            .zip(parts)
+            .map(|(run, part)| {
+                let (mut at, mut leaves) = (0, Vec::new());
+                for (start, ids) in blocked(run) {
+                    write_block(geom, ids, &mut part[at..at + ROWS * ids.len()]);
+                    leaves.push((start, at));
+                    at += ROWS * ids.len();
+                }
+                leaves
+            })
+            .collect();
         let mut at = vec![0; prims.len()];
-        let mut offset = 0;
-        for (start, ids) in blocked(nodes) {
-            at[start] = offset as u32 + 1;
-            offset += ROWS * ids.len();
+        let mut base = 0;
+        for (leaves, floats) in written.iter().zip(&floats) {
+            for &(start, offset) in leaves {
+                at[start] = (base + offset) as u32 + 1;
+            }
+            base += floats;
         }
         TriangleBlocks { rows, at }
     }
