@@ -14,8 +14,10 @@
 //! scenes ([`povray`]: anti-aliasing, soft shadows, depth of field), and
 //! with `--shared DIR` (the project's `../shared`) Intel Embree
 //! (`bench/embree-rays`, single rays and 8/16-wide packets), and prints
-//! their figures beside ours. Figures are noisy on shared machines: compare columns of one run.
+//! their figures beside ours, run in turn with ours ([`paired`]). Figures
+//! are noisy on shared machines: compare columns of one run.
 
+pub mod paired;
 pub mod povray;
 pub mod table1;
 
@@ -220,22 +222,26 @@ pub fn capture(program: &Path, args: &[&str]) -> Result<String> {
 /// Whole-process wall times of `program args` over `runs` runs (output
 /// discarded), seconds: the best and the median. Fails if a run fails.
 pub fn process_times(program: &Path, args: &[&str], runs: u32) -> Result<(f64, f64)> {
-    let mut times = Vec::with_capacity(runs as usize);
-    for _ in 0..runs.max(1) {
-        let t = Instant::now();
-        let status = std::process::Command::new(program)
-            .args(args)
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::null())
-            .status()
-            .with_context(|| format!("running {}", program.display()))?;
-        times.push(t.elapsed().as_secs_f64());
-        if !status.success() {
-            bail!("{} {} failed", program.display(), args.join(" "));
-        }
-    }
+    let mut times = (0..runs.max(1)).map(|_| wall_seconds(program, args)).collect::<Result<Vec<_>>>()?;
     times.sort_by(f64::total_cmp);
     Ok((times[0], times[times.len() / 2]))
+}
+
+/// One whole-process wall time of `program args` (output discarded),
+/// seconds. Fails if the run fails.
+pub fn wall_seconds(program: &Path, args: &[&str]) -> Result<f64> {
+    let t = Instant::now();
+    let status = std::process::Command::new(program)
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .status()
+        .with_context(|| format!("running {}", program.display()))?;
+    let seconds = t.elapsed().as_secs_f64();
+    if !status.success() {
+        bail!("{} {} failed", program.display(), args.join(" "));
+    }
+    Ok(seconds)
 }
 
 /// The first number after `key` in `text` (`"speedup (povray / ours): 3.10x"`).

@@ -1,7 +1,8 @@
 //! `nffbench`'s comparison with POV-Ray 3.7: the same SPD scene written by
 //! nffconvert's POV-Ray writer (so both trace the same geometry, lights,
 //! finishes and depth), each renderer timed as a whole process, side by
-//! side, for each setting below. How each setting maps:
+//! side: the two run in turn, and the speedup is the median of the rounds'
+//! ratios ([`super::paired`]). How each setting maps:
 //!
 //! | row | render | POV-Ray |
 //! |---|---|---|
@@ -11,7 +12,8 @@
 //! | soft shadows | `--spp 16 --light-size S` (a square facing the point, one light sample a ray) | the 16 spp row, each light an `area_light` of side S, 4x4 `jitter orient adaptive 0` (16 shadow rays a hit) |
 //! | depth of field | `--spp 16 --aperture A` (focus on `at`) | `focal_blur`: `aperture 2A` (its aperture is a diameter), `blur_samples 16 confidence 1 variance 0`, `-A` |
 
-use super::process_times;
+use super::paired::{alternate, Paired};
+use super::wall_seconds;
 use crate::convert::{pov, ExportOptions};
 use anyhow::{Context, Result};
 use nffkit_formats::Scene;
@@ -72,16 +74,17 @@ pub struct Runner {
     pub render: PathBuf,
     /// Image side, pixels.
     pub size: u32,
-    /// Runs of each timing; the median is reported.
+    /// Runs of each program, in alternation ([`alternate`]).
     pub runs: u32,
     /// Where the scene and images are written.
     pub dir: PathBuf,
 }
 
 impl Runner {
-    /// Median whole-process seconds of POV-Ray and of `render` for
-    /// `setting` on `scene` (read from `nff`).
-    pub fn compare(&self, nff: &Path, scene: &Scene, setting: &Setting) -> Result<(f64, f64)> {
+    /// Whole-process seconds of POV-Ray (`a`) and of `render` (`b`) for
+    /// `setting` on `scene` (read from `nff`), the two run in
+    /// alternation: the ratio is POV-Ray's time over ours, our speedup.
+    pub fn compare(&self, nff: &Path, scene: &Scene, setting: &Setting) -> Result<Paired> {
         let pov_file = self.dir.join("scene.pov");
         let mut text = Vec::new();
         pov::write(scene, &setting.export, &mut text)?;
@@ -92,7 +95,6 @@ impl Runner {
         let (w, h, wt) = (format!("+W{}", self.size), format!("+H{}", self.size), format!("+WT{threads}"));
         let mut pov_args = vec![pov_in.as_str(), pov_out.as_str(), &w, &h, &wt, "-D", "+FN", "-GA"];
         pov_args.extend(&setting.pov);
-        let (_, pov_median) = process_times(&self.povray, &pov_args, self.runs)?;
         let size = self.size.to_string();
         let out = self.dir.join("ours.png");
         let mut ours: Vec<&str> = vec![nff.to_str().context("the scene's path is not UTF-8")?];
@@ -106,7 +108,11 @@ impl Runner {
         ]);
         ours.extend(["--depth", "6", "-q"]);
         ours.extend(setting.ours.iter().map(String::as_str));
-        let (_, ours_median) = process_times(&self.render, &ours, self.runs)?;
-        Ok((pov_median, ours_median))
+        let rounds = alternate(
+            self.runs,
+            || wall_seconds(&self.povray, &pov_args),
+            || wall_seconds(&self.render, &ours),
+        )?;
+        Paired::of(&rounds).context("no rounds")
     }
 }

@@ -4,6 +4,7 @@
 use anyhow::{bail, Context, Result};
 use clap::Parser;
 use nffkit_formats::nff::{self, ParseOptions};
+use nffkit_tools::bench::paired::{alternate, median, Paired};
 use nffkit_tools::bench::{self, capture, embree_mrays, render_timing, write_flake, FlakeProcess};
 use nffkit_tools::cli_util;
 use nffkit_tools::qa::golden::find_scenes_dir;
@@ -28,6 +29,11 @@ use std::time::Instant;
 /// project's ../shared), Intel Embree (bench/embree-rays: rtcIntersect1
 /// and 8/16-wide packets) is run on the same scenes and shown beside these
 /// figures, and its BVH build of the big sphereflake beside ours.
+///
+/// POV-Ray and Embree run in alternation with us, round by round (--runs
+/// rounds), and each ratio is the median of the rounds' ratios, with their
+/// range: on a shared machine, whose speed drifts between processes, that
+/// is far steadier than a ratio of figures taken minutes apart.
 #[derive(Parser, Debug)]
 #[command(name = "nffbench", version)]
 struct Args {
@@ -35,7 +41,8 @@ struct Args {
     #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(16..=4096))]
     size: u32,
     /// Repetitions of each timing (in process, and the sphereflake's fresh
-    /// processes); the best is reported.
+    /// processes; the best is reported), and rounds of each side-by-side
+    /// comparison with POV-Ray or Embree (the median is reported).
     #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=100))]
     runs: u32,
     /// The shared folder with bench/embree-rays: run Embree beside us.
@@ -71,11 +78,52 @@ struct Column {
     shadow: f64,
     spp1: bench::RenderTiming,
     spp16: bench::RenderTiming,
-    /// POV-Ray against us, median whole-process seconds, per setting of
+    /// POV-Ray against us, whole-process seconds, per setting of
     /// `bench::povray::settings`.
-    pov: Vec<(&'static str, (f64, f64))>,
-    embree: Option<[Option<f64>; 4]>,
+    pov: Vec<(&'static str, Paired)>,
+    embree: Option<EmbreeSide>,
     gpu: Option<bench::GpuTiming>,
+}
+
+/// Embree's rays beside ours, round by round: each ratio is ours over
+/// Embree's (eye rays, one thread).
+struct EmbreeSide {
+    /// Our single rays against `rtcIntersect1`.
+    single: Paired,
+    /// Our packets against `rtcIntersect1`.
+    packets_vs_single: Paired,
+    /// Our packets against the faster of `rtcIntersect8` and `16`.
+    packets_vs_best: Paired,
+    /// Medians of `rtcIntersect8` and `rtcIntersect16`, Mrays/s.
+    packet8: f64,
+    packet16: f64,
+    /// Eye and shadow rays, single (one run).
+    shadow: Option<f64>,
+}
+
+/// Embree's eye rays on `name` in one round: `rtcIntersect1`, then 8- and
+/// 16-ray packets, Mrays/s on one thread.
+fn embree_round(shared: &Path, name: &str, size: &str) -> Result<[f64; 3]> {
+    let em = |extra: &[&str]| -> Result<f64> {
+        nffkit_tools::eprintln_safe!("{name}: Embree {}", extra.join(" "));
+        let args =
+            [name, "--width", size, "--height", size, "--threads", "1", "--seconds", "1", "--repeats", "3"];
+        let out = capture(&shared.join("bench/embree-rays"), &[&args[..], extra].concat())?;
+        embree_mrays(&out).with_context(|| format!("embree-rays printed no rate for {name}:\n{out}"))
+    };
+    Ok([em(&[])?, em(&["--packet", "8"])?, em(&["--packet", "16"])?])
+}
+
+/// Each rate's median over rounds (the hit counts are the same in all).
+fn median_rates(rounds: &[RayRates]) -> RayRates {
+    let m = |f: fn(&RayRates) -> f64| median(rounds.iter().map(f));
+    RayRates {
+        eye: m(|r| r.eye),
+        shadow: m(|r| r.shadow),
+        eye_packet: m(|r| r.eye_packet),
+        shadow_packet: m(|r| r.shadow_packet),
+        ..rounds[0]
+    }
 }
 
 fn measure(
@@ -92,8 +140,32 @@ fn measure(
     let opts = PrepareOptions { width: Some(a.size), height: Some(a.size), ..Default::default() };
     let prepared = prepare(&scene, &opts)?;
     let one = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
-    let rates = one.install(|| ray_rates(&prepared, a.runs));
     let size = a.size.to_string();
+    let ours = || one.install(|| ray_rates(&prepared, a.runs));
+    let (rates, embree) = match &a.shared {
+        None => (ours(), None),
+        Some(shared) => {
+            let rounds = alternate(a.runs, || Ok(ours()), || embree_round(shared, name, &size))?;
+            let (mine, theirs): (Vec<RayRates>, Vec<[f64; 3]>) = rounds.into_iter().unzip();
+            let pairs = |of_ours: fn(&RayRates) -> f64, of_theirs: fn(&[f64; 3]) -> f64| {
+                let rounds: Vec<(f64, f64)> =
+                    mine.iter().zip(&theirs).map(|(m, t)| (of_ours(m), of_theirs(t))).collect();
+                Paired::of(&rounds).context("no rounds")
+            };
+            nffkit_tools::eprintln_safe!("{name}: Embree --shadow");
+            let args = [name, "--width", &size, "--height", &size, "--threads", "1", "--shadow"];
+            let shadow = embree_mrays(&capture(&shared.join("bench/embree-rays"), &args)?);
+            let side = EmbreeSide {
+                single: pairs(|m| m.eye, |t| t[0])?,
+                packets_vs_single: pairs(|m| m.eye_packet, |t| t[0])?,
+                packets_vs_best: pairs(|m| m.eye_packet, |t| t[1].max(t[2]))?,
+                packet8: median(theirs.iter().map(|t| t[1])),
+                packet16: median(theirs.iter().map(|t| t[2])),
+                shadow,
+            };
+            (median_rates(&mine), Some(side))
+        }
+    };
     let base = ["--width", &size, "--height", &size, "--depth", "6"];
     nffkit_tools::eprintln_safe!("{name}: Whitted renders on {threads} threads");
     let spp1 = render_timing(&scene, &base, a.runs)?;
@@ -124,15 +196,6 @@ fn measure(
             pov.push((setting.label, t));
         }
     }
-    let mut embree = None;
-    if let Some(shared) = &a.shared {
-        let em = |extra: &[&str]| -> Result<Option<f64>> {
-            nffkit_tools::eprintln_safe!("{name}: Embree {}", extra.join(" "));
-            let args = [&[name, "--width", &size, "--height", &size, "--threads", "1"][..], extra].concat();
-            Ok(embree_mrays(&capture(&shared.join("bench/embree-rays"), &args)?))
-        };
-        embree = Some([em(&[])?, em(&["--packet", "8"])?, em(&["--packet", "16"])?, em(&["--shadow"])?]);
-    }
     Ok(Column {
         rates,
         eye: rates.eye,
@@ -146,25 +209,38 @@ fn measure(
     })
 }
 
-/// The sphereflake at `level`, loaded in `runs` fresh processes: each
-/// step's best time, the best whole-process time, and the highest peak.
-fn flake(level: u32, dir: &Path, runs: u32) -> Result<(FlakeProcess, f64)> {
+/// The sphereflake at `level`, written to `dir` and loaded in `runs` fresh
+/// processes: each run's figures and whole-process seconds, and the
+/// figures of `beside` (given the file), run in turn with each (before or
+/// after it, alternately).
+#[allow(clippy::type_complexity)]
+fn flake_runs<T>(
+    level: u32,
+    dir: &Path,
+    runs: u32,
+    beside: Option<&mut dyn FnMut(&Path) -> Result<T>>,
+) -> Result<(Vec<(FlakeProcess, f64)>, Vec<T>)> {
     let file = dir.join(format!("flake{level}.nff"));
     nffkit_tools::eprintln_safe!("sphereflake level {level}: writing and loading in {runs} fresh processes");
     write_flake(level, &file)?;
     let exe = std::env::current_exe()?;
-    let mut best: Option<(FlakeProcess, f64)> = None;
-    for _ in 0..runs.max(1) {
+    let ours = || -> Result<(FlakeProcess, f64)> {
         let t0 = Instant::now();
         let out = capture(&exe, &["--flake-child", file.to_str().context("temporary path is not UTF-8")?])?;
         let whole = t0.elapsed().as_secs_f64();
-        let f = out.lines().find_map(FlakeProcess::from_line).context("the child printed no figures")?;
-        best = Some(match best {
-            None => (f, whole),
-            Some((b, w)) => (b.best(f), w.min(whole)),
-        });
+        Ok((out.lines().find_map(FlakeProcess::from_line).context("the child printed no figures")?, whole))
+    };
+    match beside {
+        None => Ok(((0..runs.max(1)).map(|_| ours()).collect::<Result<_>>()?, Vec::new())),
+        Some(f) => Ok(alternate(runs, ours, || f(&file))?.into_iter().unzip()),
     }
-    best.context("no run")
+}
+
+/// Each step's best time over runs, the best whole-process time, and the
+/// highest peak.
+fn best_flake(runs: &[(FlakeProcess, f64)]) -> (FlakeProcess, f64) {
+    let (first, rest) = runs.split_first().expect("at least one run");
+    rest.iter().fold(*first, |(b, w), &(f, whole)| (b.best(f), w.min(whole)))
 }
 
 /// Millions of rays per second, to three significant figures or so
@@ -219,40 +295,44 @@ fn report(a: &Args) -> Result<String> {
             c.gpu.map_or("-".into(), |g| format!("{:.2}x", c.spp16.seconds / g.render_seconds))
         });
     }
+    let mrays = |v: f64| format!("{v:.2}");
+    let embree_row = |c: &Column, f: &dyn Fn(&EmbreeSide) -> String| c.embree.as_ref().map_or("-".into(), f);
     if a.shared.is_some() {
-        let labels = [
-            "Embree rtcIntersect1, Mrays/s",
-            "Embree rtcIntersect8",
-            "Embree rtcIntersect16",
-            "Embree eye+shadow (single)",
-        ];
-        for (k, label) in labels.iter().enumerate() {
-            row(label, &|c| c.embree.and_then(|e| e[k]).map_or("-".into(), |v| format!("{v:.2}")));
-        }
-        row("eye rays: our single / Embree single", &|c| {
-            c.embree.and_then(|e| e[0]).map_or("-".into(), |v| format!("{:.2}x", c.eye / v))
-        });
+        row("Embree rtcIntersect1, Mrays/s", &|c| embree_row(c, &|e| mrays(e.single.b)));
+        row("Embree rtcIntersect8", &|c| embree_row(c, &|e| mrays(e.packet8)));
+        row("Embree rtcIntersect16", &|c| embree_row(c, &|e| mrays(e.packet16)));
+        row("Embree eye+shadow (single)", &|c| embree_row(c, &|e| e.shadow.map_or("-".into(), mrays)));
+        row("eye rays: our single / Embree single", &|c| embree_row(c, &|e| e.single.ratio_text()));
         row("eye rays: our packets / Embree single", &|c| {
-            c.embree.and_then(|e| e[0]).map_or("-".into(), |v| format!("{:.2}x", c.rates.eye_packet / v))
+            embree_row(c, &|e| e.packets_vs_single.ratio_text())
         });
         row("eye rays: our packets / Embree's best packets", &|c| {
-            let best = c.embree.and_then(|e| e[1].into_iter().chain(e[2]).reduce(f64::max));
-            best.map_or("-".into(), |v| format!("{:.2}x", c.rates.eye_packet / v))
+            embree_row(c, &|e| e.packets_vs_best.ratio_text())
         });
     }
     if a.povray {
         for k in 0..cols[0].pov.len() {
             let label = cols[0].pov[k].0;
             row(&format!("POV-Ray {label}, whole process: POV-Ray s / ours s = speedup"), &|c| {
-                let (p, o) = c.pov[k].1;
-                format!("{p:.3} / {o:.3} = {:.2}x", p / o)
+                let p = c.pov[k].1;
+                format!("{:.3} / {:.3} = {}", p.a, p.b, p.ratio_text())
             });
         }
     }
+    if a.shared.is_some() || a.povray {
+        let _ = writeln!(
+            t,
+            "\nBeside POV-Ray and Embree: medians of {} rounds, each side run in turn; a ratio is the median of the rounds' ratios (their range in brackets).",
+            a.runs
+        );
+    }
     check_section(&mut t, &spd, 10 * a.runs)?;
     let dir = tempfile::tempdir()?;
-    let (small, small_whole) = flake(2, dir.path(), a.runs)?;
-    let (big, big_whole) = flake(a.flake_level, dir.path(), a.runs)?;
+    let (small, small_whole) = best_flake(&flake_runs::<()>(2, dir.path(), a.runs, None)?.0);
+    let mut embree = a.shared.as_deref().map(|shared| move |file: &Path| embree_build(shared, file, threads));
+    let beside = embree.as_mut().map(|f| f as &mut dyn FnMut(&Path) -> Result<(f64, f64)>);
+    let (big_runs, embree_builds) = flake_runs(a.flake_level, dir.path(), a.runs, beside)?;
+    let (big, big_whole) = best_flake(&big_runs);
     let _ =
         writeln!(t, "\n## Sphereflake, each level in fresh processes (512x512, 1 spp, {threads} threads; best of {} runs, highest peak)\n", a.runs);
     let _ = writeln!(
@@ -281,33 +361,42 @@ fn report(a: &Args) -> Result<String> {
         big_whole / small_whole,
         big.render / small.render
     );
-    if let Some(shared) = &a.shared {
-        embree_build(&mut t, shared, &dir.path().join(format!("flake{}.nff", a.flake_level)), &big, threads)?;
+    if a.shared.is_some() {
+        build_table(&mut t, &big_runs, &embree_builds, threads)?;
     }
     Ok(t)
 }
 
-/// Embree's build of the same sphereflake on as many threads, beside ours.
-fn embree_build(
-    t: &mut String,
-    shared: &Path,
-    file: &Path,
-    ours: &FlakeProcess,
-    threads: usize,
-) -> Result<()> {
+/// Embree's build of the sphereflake in `file` on `threads` threads: its
+/// first build (with start-up) and the median of its rebuilds, ms.
+fn embree_build(shared: &Path, file: &Path, threads: usize) -> Result<(f64, f64)> {
     nffkit_tools::eprintln_safe!("sphereflake: Embree's build on {threads} threads");
     let file = file.to_str().context("temporary path is not UTF-8")?;
     let n = threads.to_string();
     let args =
         [file, "--width", "16", "--height", "16", "--threads", &n, "--seconds", "0.01", "--repeats", "1"];
     let out = capture(&shared.join("bench/embree-rays"), &[&args[..], &["--verbose"]].concat())?;
-    let (first, median) = bench::embree_build_ms(&out).context("embree-rays printed no build times")?;
+    bench::embree_build_ms(&out).context("embree-rays printed no build times")
+}
+
+/// Our sphereflake builds beside Embree's, run by run.
+fn build_table(
+    t: &mut String,
+    ours: &[(FlakeProcess, f64)],
+    embree: &[(f64, f64)],
+    threads: usize,
+) -> Result<()> {
+    let (best, _) = best_flake(ours);
+    let rounds: Vec<(f64, f64)> = ours.iter().zip(embree).map(|((f, _), e)| (f.bvh * 1e3, e.1)).collect();
+    let paired = Paired::of(&rounds).context("no Embree builds")?;
+    let first = median(embree.iter().map(|e| e.0));
     let _ = writeln!(t, "\n| BVH build, {threads} threads | ms | SAH cost |");
     let _ = writeln!(t, "|---|---:|---:|");
-    let _ = writeln!(t, "| ours (fresh process, best) | {:.1} | {:.2} |", ours.bvh * 1e3, ours.sah);
-    let _ = writeln!(t, "| Embree, first build (with start-up) | {first:.1} | - |");
-    let _ = writeln!(t, "| Embree, median of 5 rebuilds | {median:.1} | - |");
-    let _ = writeln!(t, "| our time / Embree's rebuild time | {:.2}x | |", ours.bvh * 1e3 / median);
+    let _ = writeln!(t, "| ours (fresh process, best) | {:.1} | {:.2} |", best.bvh * 1e3, best.sah);
+    let _ = writeln!(t, "| ours (fresh process, median) | {:.1} | |", paired.a);
+    let _ = writeln!(t, "| Embree, first build (with start-up), median | {first:.1} | - |");
+    let _ = writeln!(t, "| Embree, median of 5 rebuilds, median | {:.1} | - |", paired.b);
+    let _ = writeln!(t, "| our time / Embree's rebuild time, run by run | {} | |", paired.ratio_text());
     Ok(())
 }
 

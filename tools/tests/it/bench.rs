@@ -61,3 +61,74 @@ fn raybench_all_measures_single_rays_and_packets_alike() {
     assert!(shadow_rays > 0.0, "{stdout}");
     assert!([eye, shadow, packets, shadow_packets].iter().all(|&r| r > 0.0 && r.is_finite()), "{stdout}");
 }
+
+/// With `--shared`, nffbench runs the folder's `bench/embree-rays` in turn
+/// with its own measurements, round by round, and each ratio is ours over
+/// Embree's. Here a stand-in script reports fixed rates and build times
+/// (2 Mrays/s single, 8 and 16 for packets, a 2 ms rebuild) and logs its
+/// calls.
+#[test]
+fn embree_runs_in_turn_with_ours() {
+    use std::os::unix::fs::PermissionsExt;
+    let shared = tempfile::tempdir().unwrap();
+    let bench = shared.path().join("bench");
+    std::fs::create_dir(&bench).unwrap();
+    let log = shared.path().join("calls.log");
+    let script = bench.join("embree-rays");
+    std::fs::write(
+        &script,
+        format!(
+            r#"#!/bin/sh
+echo "$*" >> '{}'
+case " $* " in
+  *" --packet 8 "*) r=8.0 ;;
+  *" --packet 16 "*) r=16.0 ;;
+  *" --shadow "*) r=3.0 ;;
+  *) r=2.0 ;;
+esac
+echo "build: first 4.00 ms (includes one-off start-up); 5 rebuilds: median 2.00 ms [1.90-2.10]"
+echo "RESULT stand-in: primary, single, 1 spp, 1 thread, 16x16, quality medium: $r Mrays/s median [$r-$r] of 3"
+"#,
+            log.display()
+        ),
+    )
+    .unwrap();
+    std::fs::set_permissions(&script, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_nffbench"))
+        .args(["--size", "16", "--runs", "3", "--flake-level", "2", "--shared"])
+        .arg(shared.path())
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("nffbench runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}\n{}", stdout, String::from_utf8_lossy(&out.stderr));
+    // The cells of the row whose label starts with `label`.
+    let cells = |label: &str| -> Vec<String> {
+        let line = stdout.lines().find(|l| l.starts_with(&format!("| {label}"))).unwrap_or_default();
+        line.split('|').skip(2).map(|c| c.trim().to_string()).filter(|c| !c.is_empty()).collect()
+    };
+    assert_eq!(cells("Embree rtcIntersect1, Mrays/s"), ["2.00", "2.00"], "{stdout}");
+    assert_eq!(cells("Embree rtcIntersect16"), ["16.00", "16.00"], "{stdout}");
+    assert_eq!(cells("Embree eye+shadow (single)"), ["3.00", "3.00"], "{stdout}");
+    // Embree's rate is the same every round, so the median ratio is our
+    // median rate over it, and the printed median rates give it back.
+    let first = |c: &str| c.split([' ', 'x']).next().unwrap().parse::<f64>().unwrap();
+    let ours = cells("eye rays, single, Mrays/s per thread");
+    let ratios = cells("eye rays: our single / Embree single");
+    for (o, r) in ours.iter().zip(&ratios) {
+        assert!((first(o) / 2.0 - first(r)).abs() < 0.006, "{o} against {r}:\n{stdout}");
+        assert!(r.contains('(') && r.contains('-'), "three rounds show their range: {r}");
+    }
+    let packets = cells("eye rays, packets of 4x4");
+    let best = cells("eye rays: our packets / Embree's best packets");
+    for (o, r) in packets.iter().zip(&best) {
+        assert!((first(o) / 16.0 - first(r)).abs() < 0.006, "{o} against {r}:\n{stdout}");
+    }
+    let build = cells("our time / Embree's rebuild time, run by run");
+    assert!(build.len() == 1 && first(&build[0]) > 0.0, "{stdout}");
+    assert!(stdout.contains("| Embree, median of 5 rebuilds, median | 2.0 |"), "{stdout}");
+    // Per scene three rounds of three runs and one shadow run; three builds.
+    let calls = std::fs::read_to_string(&log).unwrap();
+    assert_eq!(calls.lines().count(), 2 * (3 * 3 + 1) + 3, "{calls}");
+    assert_eq!(calls.lines().filter(|l| l.contains("--verbose")).count(), 3, "{calls}");
+}

@@ -295,8 +295,8 @@ fn every_benchmark_setting_renders_in_povray() {
     let settings = nffkit_tools::bench::povray::settings(0.5, 0.05);
     assert_eq!(settings.len(), 5);
     for setting in &settings {
-        let (pov, ours) = runner.compare(&nff, &scene, setting).unwrap();
-        assert!(pov > 0.0 && ours > 0.0, "{}", setting.label);
+        let t = runner.compare(&nff, &scene, setting).unwrap();
+        assert!(t.a > 0.0 && t.b > 0.0 && t.ratio == t.a / t.b && t.rounds == 1, "{}", setting.label);
         let text = std::fs::read_to_string(dir.path().join("scene.pov")).unwrap();
         if setting.label.starts_with("soft") {
             assert!(text.contains("area_light <0.5, 0, 0>, <0, 0, 0.5>, 4, 4 jitter orient adaptive 0"));
