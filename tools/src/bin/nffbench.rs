@@ -209,22 +209,26 @@ fn measure(
     })
 }
 
+/// One fresh process's figures, and its whole-process seconds.
+type FlakeRun = (FlakeProcess, f64);
+
+/// What is measured beside each sphereflake process, given its file.
+type Beside<'a, T> = &'a mut dyn FnMut(&Path) -> Result<T>;
+
 /// The sphereflake at `level`, written to `dir` and loaded in `runs` fresh
-/// processes: each run's figures and whole-process seconds, and the
-/// figures of `beside` (given the file), run in turn with each (before or
-/// after it, alternately).
-#[allow(clippy::type_complexity)]
+/// processes: each run's figures, and the figures of `beside` (given the
+/// file), run in turn with each (before or after it, alternately).
 fn flake_runs<T>(
     level: u32,
     dir: &Path,
     runs: u32,
-    beside: Option<&mut dyn FnMut(&Path) -> Result<T>>,
-) -> Result<(Vec<(FlakeProcess, f64)>, Vec<T>)> {
+    beside: Option<Beside<'_, T>>,
+) -> Result<(Vec<FlakeRun>, Vec<T>)> {
     let file = dir.join(format!("flake{level}.nff"));
     nffkit_tools::eprintln_safe!("sphereflake level {level}: writing and loading in {runs} fresh processes");
     write_flake(level, &file)?;
     let exe = std::env::current_exe()?;
-    let ours = || -> Result<(FlakeProcess, f64)> {
+    let ours = || -> Result<FlakeRun> {
         let t0 = Instant::now();
         let out = capture(&exe, &["--flake-child", file.to_str().context("temporary path is not UTF-8")?])?;
         let whole = t0.elapsed().as_secs_f64();
@@ -238,9 +242,9 @@ fn flake_runs<T>(
 
 /// Each step's best time over runs, the best whole-process time, and the
 /// highest peak.
-fn best_flake(runs: &[(FlakeProcess, f64)]) -> (FlakeProcess, f64) {
-    let (first, rest) = runs.split_first().expect("at least one run");
-    rest.iter().fold(*first, |(b, w), &(f, whole)| (b.best(f), w.min(whole)))
+fn best_flake(runs: &[FlakeRun]) -> Result<FlakeRun> {
+    let (first, rest) = runs.split_first().context("no sphereflake run")?;
+    Ok(rest.iter().fold(*first, |(b, w), &(f, whole)| (b.best(f), w.min(whole))))
 }
 
 /// Millions of rays per second, to three significant figures or so
@@ -328,11 +332,11 @@ fn report(a: &Args) -> Result<String> {
     }
     check_section(&mut t, &spd, 10 * a.runs)?;
     let dir = tempfile::tempdir()?;
-    let (small, small_whole) = best_flake(&flake_runs::<()>(2, dir.path(), a.runs, None)?.0);
+    let (small, small_whole) = best_flake(&flake_runs::<()>(2, dir.path(), a.runs, None)?.0)?;
     let mut embree = a.shared.as_deref().map(|shared| move |file: &Path| embree_build(shared, file, threads));
-    let beside = embree.as_mut().map(|f| f as &mut dyn FnMut(&Path) -> Result<(f64, f64)>);
+    let beside = embree.as_mut().map(|f| f as Beside<'_, (f64, f64)>);
     let (big_runs, embree_builds) = flake_runs(a.flake_level, dir.path(), a.runs, beside)?;
-    let (big, big_whole) = best_flake(&big_runs);
+    let (big, big_whole) = best_flake(&big_runs)?;
     let _ =
         writeln!(t, "\n## Sphereflake, each level in fresh processes (512x512, 1 spp, {threads} threads; best of {} runs, highest peak)\n", a.runs);
     let _ = writeln!(
@@ -380,13 +384,8 @@ fn embree_build(shared: &Path, file: &Path, threads: usize) -> Result<(f64, f64)
 }
 
 /// Our sphereflake builds beside Embree's, run by run.
-fn build_table(
-    t: &mut String,
-    ours: &[(FlakeProcess, f64)],
-    embree: &[(f64, f64)],
-    threads: usize,
-) -> Result<()> {
-    let (best, _) = best_flake(ours);
+fn build_table(t: &mut String, ours: &[FlakeRun], embree: &[(f64, f64)], threads: usize) -> Result<()> {
+    let (best, _) = best_flake(ours)?;
     let rounds: Vec<(f64, f64)> = ours.iter().zip(embree).map(|((f, _), e)| (f.bvh * 1e3, e.1)).collect();
     let paired = Paired::of(&rounds).context("no Embree builds")?;
     let first = median(embree.iter().map(|e| e.0));
