@@ -2,8 +2,7 @@
 //! giving one figure of each, so that a shared machine's slow spells fall
 //! on both sides. Their ratio is taken round by round and the median of
 //! those ratios reported with their range, rather than the ratio of two
-//! figures taken minutes apart: on a machine whose speed drifts between
-//! processes the ratio of one round is far steadier than either figure.
+//! figures taken minutes apart, each in its own spell.
 
 use anyhow::Result;
 

@@ -31,9 +31,9 @@ use std::time::Instant;
 /// figures, and its BVH build of the big sphereflake beside ours.
 ///
 /// POV-Ray and Embree run in alternation with us, round by round (--runs
-/// rounds), and each ratio is the median of the rounds' ratios, with their
-/// range: on a shared machine, whose speed drifts between processes, that
-/// is far steadier than a ratio of figures taken minutes apart.
+/// rounds), so that a shared machine's drift between processes falls on
+/// both sides; each ratio is the median of the rounds' ratios, with their
+/// range.
 #[derive(Parser, Debug)]
 #[command(name = "nffbench", version)]
 struct Args {
