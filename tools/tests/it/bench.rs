@@ -111,18 +111,19 @@ echo "RESULT stand-in: primary, single, 1 spp, 1 thread, 16x16, quality medium: 
     assert_eq!(cells("Embree rtcIntersect16"), ["16.00", "16.00"], "{stdout}");
     assert_eq!(cells("Embree eye+shadow (single)"), ["3.00", "3.00"], "{stdout}");
     // Embree's rate is the same every round, so the median ratio is our
-    // median rate over it, and the printed median rates give it back.
+    // median rate over it, and the printed median rates give it back (to
+    // the printing's rounding: half a hundredth on each figure).
     let first = |c: &str| c.split([' ', 'x']).next().unwrap().parse::<f64>().unwrap();
     let ours = cells("eye rays, single, Mrays/s per thread");
     let ratios = cells("eye rays: our single / Embree single");
     for (o, r) in ours.iter().zip(&ratios) {
-        assert!((first(o) / 2.0 - first(r)).abs() < 0.006, "{o} against {r}:\n{stdout}");
+        assert!((first(o) / 2.0 - first(r)).abs() < 0.008, "{o} against {r}:\n{stdout}");
         assert!(r.contains('(') && r.contains('-'), "three rounds show their range: {r}");
     }
     let packets = cells("eye rays, packets of 4x4");
     let best = cells("eye rays: our packets / Embree's best packets");
     for (o, r) in packets.iter().zip(&best) {
-        assert!((first(o) / 16.0 - first(r)).abs() < 0.006, "{o} against {r}:\n{stdout}");
+        assert!((first(o) / 16.0 - first(r)).abs() < 0.008, "{o} against {r}:\n{stdout}");
     }
     let build = cells("our time / Embree's rebuild time, run by run");
     assert!(build.len() == 1 && first(&build[0]) > 0.0, "{stdout}");
