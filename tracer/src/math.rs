@@ -46,6 +46,19 @@ pub struct RayQuery {
     pub t_min: f32,
 }
 
+/// The axis of `v`'s largest component, the first of equals in x, y, z
+/// order.
+#[inline(always)]
+pub fn largest_axis(v: Vec3A) -> usize {
+    if v.x >= v.y && v.x >= v.z {
+        0
+    } else if v.y >= v.z {
+        1
+    } else {
+        2
+    }
+}
+
 impl RayQuery {
     /// Precompute everything a traversal needs for `ray`.
     #[inline]
@@ -53,14 +66,7 @@ impl RayQuery {
         let d = ray.d;
         let inv = Vec3A::ONE / d;
         let inv_d = inv.clamp(Vec3A::splat(-1e30), Vec3A::splat(1e30));
-        let a = d.abs();
-        let kz = if a.x >= a.y && a.x >= a.z {
-            0
-        } else if a.y >= a.z {
-            1
-        } else {
-            2
-        };
+        let kz = largest_axis(d.abs());
         // The permutation, and d permuted by it with swizzles (indexing a
         // vector by a variable goes through memory); then one vector
         // division gives the three shear constants.

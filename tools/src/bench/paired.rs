@@ -1,8 +1,8 @@
 //! Side-by-side measurement: two things timed in alternation, each round
 //! giving one figure of each, so that a shared machine's slow spells fall
-//! on both sides. Their ratio is taken round by round and the median of
-//! those ratios reported with their range, rather than the ratio of two
-//! figures taken minutes apart, each in its own spell.
+//! on both sides. Their ratio is taken within each round, where both
+//! sides met the same machine, and the median of those ratios reported
+//! with their range.
 
 use anyhow::Result;
 

@@ -101,14 +101,20 @@ struct EmbreeSide {
     shadow: Option<f64>,
 }
 
+/// `embree-rays` on scene `name` at `size` on one thread, with `extra`
+/// options: its output.
+fn embree_rays(shared: &Path, name: &str, size: &str, extra: &[&str]) -> Result<String> {
+    nffkit_tools::eprintln_safe!("{name}: Embree {}", extra.join(" "));
+    let args = [name, "--width", size, "--height", size, "--threads", "1"];
+    capture(&shared.join("bench/embree-rays"), &[&args[..], extra].concat())
+}
+
 /// Embree's eye rays on `name` in one round: `rtcIntersect1`, then 8- and
 /// 16-ray packets, Mrays/s on one thread.
 fn embree_round(shared: &Path, name: &str, size: &str) -> Result<[f64; 3]> {
-    let em = |extra: &[&str]| -> Result<f64> {
-        nffkit_tools::eprintln_safe!("{name}: Embree {}", extra.join(" "));
-        let args =
-            [name, "--width", size, "--height", size, "--threads", "1", "--seconds", "1", "--repeats", "3"];
-        let out = capture(&shared.join("bench/embree-rays"), &[&args[..], extra].concat())?;
+    let em = |packet: &[&str]| -> Result<f64> {
+        let out =
+            embree_rays(shared, name, size, &[&["--seconds", "1", "--repeats", "3"][..], packet].concat())?;
         embree_mrays(&out).with_context(|| format!("embree-rays printed no rate for {name}:\n{out}"))
     };
     Ok([em(&[])?, em(&["--packet", "8"])?, em(&["--packet", "16"])?])
@@ -152,9 +158,7 @@ fn measure(
                     mine.iter().zip(&theirs).map(|(m, t)| (of_ours(m), of_theirs(t))).collect();
                 Paired::of(&rounds).context("no rounds")
             };
-            nffkit_tools::eprintln_safe!("{name}: Embree --shadow");
-            let args = [name, "--width", &size, "--height", &size, "--threads", "1", "--shadow"];
-            let shadow = embree_mrays(&capture(&shared.join("bench/embree-rays"), &args)?);
+            let shadow = embree_mrays(&embree_rays(shared, name, &size, &["--shadow"])?);
             let side = EmbreeSide {
                 single: pairs(|m| m.eye, |t| t[0])?,
                 packets_vs_single: pairs(|m| m.eye_packet, |t| t[0])?,

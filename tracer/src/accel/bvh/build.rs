@@ -116,11 +116,9 @@ fn references(geom: &Geometry, plan: &Presplit) -> Vec<BuildPrim> {
     let mut prims = Vec::with_capacity(plan.references);
     prims.par_extend((0..geom.bounded_len() as u32).into_par_iter().map(|id| BuildPrim::new(first(id), id)));
     let tri = geom.first_id(Kind::Triangle);
-    let rest: Vec<BuildPrim> = plan
-        .cut()
-        .flat_map_iter(|i| plan.pieces(geom, i, 1).map(move |b| BuildPrim::new(b, tri + i as u32)))
-        .collect();
-    prims.extend_from_slice(&rest);
+    prims.par_extend(
+        plan.cut().flat_map_iter(|i| plan.pieces(geom, i, 1).map(move |b| BuildPrim::new(b, tri + i as u32))),
+    );
     prims
 }
 

@@ -23,6 +23,7 @@
 
 use crate::aabb::Aabb;
 use crate::geometry::{Geometry, Triangle};
+use crate::math::largest_axis;
 use glam::{DVec3, Vec3A};
 use rayon::prelude::*;
 
@@ -94,13 +95,7 @@ impl Presplit {
         let bounds = geom.triangles[i].bounds();
         let n = self.splits[i] + 1;
         let size = bounds.size();
-        let axis = if size.x >= size.y && size.x >= size.z {
-            0
-        } else if size.y >= size.z {
-            1
-        } else {
-            2
-        };
+        let axis = largest_axis(size);
         let (start, length) = (bounds.min[axis] as f64, size[axis] as f64);
         let plane = move |k: u32| match k {
             0 => bounds.min[axis],
@@ -140,7 +135,7 @@ fn fill(priority: &[f64], budget: u64, start: f64) -> f64 {
 /// a sliver ([`SLIVER`]), or has NaN coordinates or no area (no ray hits
 /// it).
 fn waste(t: &Triangle) -> Option<f32> {
-    let (box_area, ideal) = (area(&t.bounds()), ideal_area(&t.v));
+    let (box_area, ideal) = (2.0 * t.bounds().half_area(), ideal_area(&t.v));
     (box_area > SLIVER * ideal && ideal > 0.0).then_some(box_area - ideal)
 }
 
@@ -206,12 +201,6 @@ fn crossing(p: DVec3, q: DVec3, axis: usize, c: f64) -> DVec3 {
     let mut x = p + (q - p) * ((c - p[axis]) / (q[axis] - p[axis]));
     x[axis] = c;
     x
-}
-
-/// Surface area of a box.
-fn area(b: &Aabb) -> f32 {
-    let d = b.size();
-    2.0 * (d.x * d.y + d.y * d.z + d.z * d.x)
 }
 
 /// The surface area a triangle's box tends to as the triangle is cut ever
@@ -290,8 +279,8 @@ mod tests {
         let v = [Vec3A::new(-4.0, -4.0, 0.0), Vec3A::new(4.0, 4.0, 0.0), Vec3A::new(4.0, 4.01, 0.0)];
         let plan = Presplit { splits: vec![7], references: 0 };
         let g = crate::testing::triangles(&[v.map(|p| p.to_array())]);
-        let pieces: f32 = plan.pieces(&g, 0, 0).map(|b| area(&b)).sum();
-        assert!(pieces < area(&g.triangles[0].bounds()) / 6.0, "{pieces}");
+        let pieces: f32 = plan.pieces(&g, 0, 0).map(|b| b.half_area()).sum();
+        assert!(pieces < g.triangles[0].bounds().half_area() / 6.0, "{pieces}");
     }
 
     /// Slivers get the splits, small well-shaped triangles none, and the
