@@ -418,7 +418,7 @@ impl Node4 {
         // Per slot, the entry distances of the lanes that hit (else
         // infinity), reduced for all four slots at once below.
         let mut near_min = [inf; 4];
-        let used = [self.used(0), self.used(1), self.used(2), self.used(3)];
+        let used = self.used_slots();
         let [lo, hi] = &self.bounds;
         // Group by group, the group's rays loaded once for the four boxes.
         for g in 0..LANES / V::W {
@@ -431,7 +431,7 @@ impl Node4 {
             let t_min = s.load(&p.t_min.0, g);
             let far = s.load(far, g).mul(s.splat(ENTRY_SLACK));
             for slot in 0..4 {
-                if !used[slot] {
+                if used >> slot & 1 == 0 {
                     continue;
                 }
                 let mut t_near = t_min;
@@ -460,6 +460,13 @@ impl Node4 {
     #[inline(always)]
     pub fn used(&self, slot: usize) -> bool {
         self.bounds[MIN][0][slot] <= self.bounds[MAX][0][slot]
+    }
+
+    /// The slots holding anything, as bits (slot `k` is bit `k`):
+    /// [`Node4::used`] for all four with one compare.
+    #[inline(always)]
+    pub fn used_slots(&self) -> u32 {
+        self.bounds[MIN][0].cmple(self.bounds[MAX][0]).bitmask()
     }
 
     /// Child `slot` as a stack entry.
@@ -557,6 +564,29 @@ mod tests {
             checked += 1;
         }
         assert!(hits > 1000 && checked > 3000, "{hits} hits in {checked} nodes");
+    }
+
+    /// The used slots' bits are [`Node4::used`] slot by slot: in built
+    /// trees (with partly filled nodes), in an empty node, and where a
+    /// slot's box is flat (its minimum equal to its maximum).
+    #[test]
+    fn used_slots_are_the_used_flags_as_bits() {
+        let bits = |n: &Node4| (0..4).filter(|&s| n.used(s)).fold(0, |m, s| m | 1 << s);
+        let mut checked = 0;
+        for n in [1, 2, 3, 5, 7, 40, 3000] {
+            let (nodes, _) = Node4::build(&clustered_spheres(n));
+            for node in &nodes {
+                assert_eq!(node.used_slots(), bits(node), "{n} spheres");
+                checked += usize::from(node.used_slots() != 0b1111);
+            }
+        }
+        assert!(checked > 0, "no partly filled node");
+        assert_eq!(Node4::EMPTY.used_slots(), 0);
+        let mut flat = Node4::EMPTY;
+        for a in 0..3 {
+            (flat.bounds[MIN][a][2], flat.bounds[MAX][a][2]) = (1.5, 1.5);
+        }
+        assert_eq!((flat.used_slots(), bits(&flat)), (0b100, 0b100));
     }
 
     /// The SAH cost of a tree that is one leaf is the root step plus a
