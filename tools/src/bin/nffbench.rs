@@ -370,7 +370,7 @@ fn report(a: &Args) -> Result<String> {
         big.render / small.render
     );
     if a.shared.is_some() {
-        build_table(&mut t, &big_runs, &embree_builds, threads)?;
+        build_table(&mut t, &big, &big_runs, &embree_builds, threads)?;
     }
     Ok(t)
 }
@@ -387,9 +387,15 @@ fn embree_build(shared: &Path, file: &Path, threads: usize) -> Result<(f64, f64)
     bench::embree_build_ms(&out).context("embree-rays printed no build times")
 }
 
-/// Our sphereflake builds beside Embree's, run by run.
-fn build_table(t: &mut String, ours: &[FlakeRun], embree: &[(f64, f64)], threads: usize) -> Result<()> {
-    let (best, _) = best_flake(ours)?;
+/// Our sphereflake builds beside Embree's, run by run; `best` is the best
+/// of our runs ([`best_flake`]).
+fn build_table(
+    t: &mut String,
+    best: &FlakeProcess,
+    ours: &[FlakeRun],
+    embree: &[(f64, f64)],
+    threads: usize,
+) -> Result<()> {
     let rounds: Vec<(f64, f64)> = ours.iter().zip(embree).map(|((f, _), e)| (f.bvh * 1e3, e.1)).collect();
     let paired = Paired::of(&rounds).context("no Embree builds")?;
     let first = median(embree.iter().map(|e| e.0));

@@ -572,15 +572,15 @@ mod tests {
     #[test]
     fn used_slots_are_the_used_flags_as_bits() {
         let bits = |n: &Node4| (0..4).filter(|&s| n.used(s)).fold(0, |m, s| m | 1 << s);
-        let mut checked = 0;
+        let mut partial = 0;
         for n in [1, 2, 3, 5, 7, 40, 3000] {
             let (nodes, _) = Node4::build(&clustered_spheres(n));
             for node in &nodes {
                 assert_eq!(node.used_slots(), bits(node), "{n} spheres");
-                checked += usize::from(node.used_slots() != 0b1111);
+                partial += usize::from(node.used_slots() != 0b1111);
             }
         }
-        assert!(checked > 0, "no partly filled node");
+        assert!(partial > 0, "no partly filled node");
         assert_eq!(Node4::EMPTY.used_slots(), 0);
         let mut flat = Node4::EMPTY;
         for a in 0..3 {
