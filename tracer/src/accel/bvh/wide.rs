@@ -456,14 +456,15 @@ impl Node4 {
         (masks, std::array::from_fn(|slot| if masks[slot] != 0 { nearest[slot] } else { f32::INFINITY }))
     }
 
-    /// Whether child `slot` holds anything (an unused slot's box is empty).
+    /// Whether child `slot` holds anything: its bit of [`Node4::used_slots`].
     #[inline(always)]
     pub fn used(&self, slot: usize) -> bool {
-        self.bounds[MIN][0][slot] <= self.bounds[MAX][0][slot]
+        self.used_slots() >> slot & 1 != 0
     }
 
-    /// The slots holding anything, as bits (slot `k` is bit `k`):
-    /// [`Node4::used`] for all four with one compare.
+    /// The slots holding anything, as bits (slot `k` is bit `k`): an unused
+    /// slot's box is empty, its minimum above its maximum (on x, compared
+    /// for all four slots at once).
     #[inline(always)]
     pub fn used_slots(&self) -> u32 {
         self.bounds[MIN][0].cmple(self.bounds[MAX][0]).bitmask()
@@ -566,12 +567,14 @@ mod tests {
         assert!(hits > 1000 && checked > 3000, "{hits} hits in {checked} nodes");
     }
 
-    /// The used slots' bits are [`Node4::used`] slot by slot: in built
-    /// trees (with partly filled nodes), in an empty node, and where a
-    /// slot's box is flat (its minimum equal to its maximum).
+    /// The used slots' bits are the slots whose box is not empty (its
+    /// minimum at most its maximum on every axis): in built trees (with
+    /// partly filled nodes), in an empty node, and where a slot's box is
+    /// flat (its minimum equal to its maximum).
     #[test]
-    fn used_slots_are_the_used_flags_as_bits() {
-        let bits = |n: &Node4| (0..4).filter(|&s| n.used(s)).fold(0, |m, s| m | 1 << s);
+    fn used_slots_are_the_slots_with_boxes() {
+        let filled = |n: &Node4, s: usize| (0..3).all(|a| n.bounds[MIN][a][s] <= n.bounds[MAX][a][s]);
+        let bits = |n: &Node4| (0..4).filter(|&s| filled(n, s)).fold(0, |m, s| m | 1 << s);
         let mut partial = 0;
         for n in [1, 2, 3, 5, 7, 40, 3000] {
             let (nodes, _) = Node4::build(&clustered_spheres(n));
