@@ -233,7 +233,7 @@ impl Whitted<'_> {
         let factor = |i: usize| shares.0[i] * points[i].as_ref().map_or(Vec3A::ONE, |sp| tint(kind, sp.m));
         if (lanes.count_ones() as usize) < LANES && wave.has_room() {
             for_lanes(lanes, |i| {
-                let node = out.open(i, in_node, wave);
+                let node = out.open(i, depth - 1, in_node, wave);
                 let ray = Ray { o: lane(o, i), d: lane(d, i) };
                 wave.defer(node, kind, ray, depth, weights.0[i], factor(i), ids[i]);
             });
@@ -258,8 +258,8 @@ impl Whitted<'_> {
             if waiting || *in_node >> i & 1 != 0 {
                 // Its radiance waits, or goes after what waits: a child
                 // node (a leaf when known, seen through the same factor).
-                let node = out.open(i, in_node, wave);
-                let child = if waiting { radiance.node[i] } else { wave.add_node(radiance.color[i]) };
+                let node = out.open(i, depth - 1, in_node, wave);
+                let child = if waiting { radiance.node[i] } else { wave.add_node(radiance.color[i], depth) };
                 wave.link(node, kind, child, factor(i));
             } else {
                 out.color[i] += factor(i) * radiance.color[i];
@@ -284,12 +284,13 @@ impl Default for LaneRadiance {
 }
 
 impl LaneRadiance {
-    /// Lane `i`'s node, with its colour so far moved there (once: `in_node`
-    /// marks the lanes moved), made where it has none.
-    fn open(&mut self, i: usize, in_node: &mut Mask, wave: &mut Wave) -> u32 {
+    /// Lane `i`'s node (its ray at `depth`), with its colour so far moved
+    /// there (once: `in_node` marks the lanes moved), made where it has
+    /// none.
+    fn open(&mut self, i: usize, depth: u32, in_node: &mut Mask, wave: &mut Wave) -> u32 {
         if *in_node >> i & 1 == 0 {
             if self.waiting >> i & 1 == 0 {
-                self.node[i] = wave.add_node(self.color[i]);
+                self.node[i] = wave.add_node(self.color[i], depth);
                 self.waiting |= 1 << i;
             } else {
                 wave.set_color(self.node[i], self.color[i]);

@@ -10,11 +10,13 @@
 //! its colour summed so far, the factor its parent sees it through
 //! (share × tint), and a child node for each later kind of spawned ray (a
 //! leaf holding the child's radiance where that is known at once). Once
-//! every deferred ray has been traced, the nodes are resolved from the eye
-//! rays down, each adding its kinds in order, a child's radiance resolved
-//! before it is added. These are the sums [`Whitted::li`] makes, in the
-//! same order, on the same values, so every colour is bit for bit the one
-//! the ray-by-ray path gives.
+//! every deferred ray has been traced, the nodes are resolved depth by
+//! depth from the deepest up, each adding its kinds in order: a child is
+//! one depth below its parent, so its radiance is resolved before it is
+//! added. These are the sums [`Whitted::li`] makes, in the same order, on
+//! the same values, so every colour is bit for bit the one the ray-by-ray
+//! path gives. (Within a depth the nodes do not depend on each other, so
+//! their scattered reads of their children overlap.)
 
 use super::packet::LaneRadiance;
 use super::{SampleId, ThreadState, Whitted};
@@ -22,7 +24,7 @@ use crate::accel::Intersector;
 use crate::math::Ray;
 use crate::packet::camera::EyeLanes;
 use crate::packet::RayPacket;
-use crate::simd::lanes::{first_lanes, for_lanes, set_lane, Lanes, LANES};
+use crate::simd::lanes::{first_lanes, set_lane, Lanes, LANES};
 use glam::Vec3A;
 
 /// Nodes a wave may hold before it defers no more rays: past it,
@@ -103,6 +105,9 @@ pub(crate) struct Wave {
     deepest: u32,
     /// The order one depth's rays are traced in: key << 31 | index.
     order: Vec<u64>,
+    /// The nodes of each depth (of the ray they stand for, from 1), in
+    /// the order they were made.
+    by_depth: Vec<Vec<u32>>,
 }
 
 thread_local! {
@@ -128,12 +133,19 @@ impl Wave {
         self.chunks.clear();
         self.deferred.clear();
         self.deepest = 0;
+        self.by_depth.iter_mut().for_each(Vec::clear);
     }
 
-    /// A new node of colour `color` so far, its children not yet known.
-    pub(super) fn add_node(&mut self, color: Vec3A) -> u32 {
+    /// A new node of colour `color` so far, for a ray at `depth` (from 1),
+    /// its children not yet known.
+    pub(super) fn add_node(&mut self, color: Vec3A, depth: u32) -> u32 {
         let node = self.nodes.len() as u32;
         self.nodes.push(Node { color, factor: Vec3A::ONE, child: [NO_NODE; 3] });
+        let level = depth.saturating_sub(1) as usize;
+        if self.by_depth.len() <= level {
+            self.by_depth.resize_with(level + 1, Vec::new);
+        }
+        self.by_depth[level].push(node);
         node
     }
 
@@ -170,7 +182,7 @@ impl Wave {
         factor: Vec3A,
         id: SampleId,
     ) {
-        let child = self.add_node(Vec3A::ZERO);
+        let child = self.add_node(Vec3A::ZERO, depth);
         self.link(node, kind, child, factor);
         self.deepest = self.deepest.max(depth);
         self.deferred.push(Pending { ray, depth, weight, id, node: child });
@@ -198,27 +210,22 @@ impl Wave {
         true
     }
 
-    /// Every node's radiance, from the eye rays' nodes down.
+    /// Every node's radiance: its colour so far plus each kind's
+    /// contribution in order, the deepest nodes first (their children,
+    /// one depth down, resolved before them).
     fn resolve(&mut self) {
-        for c in 0..self.chunks.len() {
-            let (nodes, waiting) = (self.chunks[c].radiance.node, self.chunks[c].radiance.waiting);
-            for_lanes(waiting, |i| {
-                self.resolve_node(nodes[i]);
-            });
+        let nodes = &mut self.nodes;
+        for level in self.by_depth.iter().rev() {
+            for &node in level {
+                let n = nodes[node as usize];
+                let mut color = n.color;
+                for c in n.child.into_iter().filter(|&c| c != NO_NODE) {
+                    let child = &nodes[c as usize];
+                    color += child.factor * child.color;
+                }
+                nodes[node as usize].color = color;
+            }
         }
-    }
-
-    /// `node`'s radiance, resolved (with its children's, first): its colour
-    /// so far plus each kind's contribution in order.
-    fn resolve_node(&mut self, node: u32) -> Vec3A {
-        let n = self.nodes[node as usize];
-        let mut color = n.color;
-        for c in n.child.into_iter().filter(|&c| c != NO_NODE) {
-            let radiance = self.resolve_node(c);
-            color += self.nodes[c as usize].factor * radiance;
-        }
-        self.nodes[node as usize].color = color;
-        color
     }
 
     /// Lane `i`'s radiance in `r`, once resolved.
