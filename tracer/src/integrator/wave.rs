@@ -30,9 +30,9 @@ use glam::Vec3A;
 /// Nodes a wave may hold before it defers no more rays: past it,
 /// scattered rays are traced at once, as small packets, so that a deep ray
 /// tree (a large `--depth` through glass) needs bounded memory (with the
-/// deferred rays, about 7 MB a thread). balls_s4, mount_s7 and gears_s4 at
-/// 16 spp and mount_s7 at 64 spp need at most 32,078. The tests' scenes are
-/// small: they reach a smaller cap.
+/// deferred rays and the orders they are kept in, about 8 MB a thread).
+/// balls_s4, mount_s7 and gears_s4 at 16 spp and mount_s7 at 64 spp need
+/// at most 32,078. The tests' scenes are small: they reach a smaller cap.
 const MAX_NODES: usize = if cfg!(test) { 2048 } else { 1 << 16 };
 
 /// A node index meaning none (no node, no child of that kind).
@@ -106,7 +106,10 @@ pub(crate) struct Wave {
     /// The order one depth's rays are traced in: key << 31 | index.
     order: Vec<u64>,
     /// The nodes of each depth (of the ray they stand for, from 1), in
-    /// the order they were made.
+    /// the order they were made. The lists keep their room from wave to
+    /// wave, all together at most twice the node cap (past it they are
+    /// dropped), so that a thread's memory stays bounded whatever the
+    /// depths of its waves.
     by_depth: Vec<Vec<u32>>,
 }
 
@@ -133,6 +136,9 @@ impl Wave {
         self.chunks.clear();
         self.deferred.clear();
         self.deepest = 0;
+        if self.by_depth.iter().map(Vec::capacity).sum::<usize>() > 2 * MAX_NODES {
+            self.by_depth = Vec::new();
+        }
         self.by_depth.iter_mut().for_each(Vec::clear);
     }
 
