@@ -15,8 +15,8 @@
 //! one depth below its parent, so its radiance is resolved before it is
 //! added. These are the sums [`Whitted::li`] makes, in the same order, on
 //! the same values, so every colour is bit for bit the one the ray-by-ray
-//! path gives. (Within a depth the nodes do not depend on each other, so
-//! their scattered reads of their children overlap.)
+//! path gives. (Within a depth no node waits on another's result, so the
+//! reads of their children do not form one chain.)
 
 use super::packet::LaneRadiance;
 use super::{SampleId, ThreadState, Whitted};
