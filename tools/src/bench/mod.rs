@@ -8,7 +8,9 @@
 //!   at 1 and 16 spp on all threads, on balls_s4 and mount_s7 (the scenes of
 //!   the SPD and of the P3D report's Table 1);
 //! - reading, building and rendering the sphereflake at level 6 (597,871
-//!   spheres) against level 2, each in a fresh process, with its peak memory.
+//!   spheres) against level 2, each in a fresh process, with its peak memory;
+//! - single eye rays on one thread on three more scenes: teapot_s12
+//!   and gears_s4 (from our SPD generator) and that sphereflake.
 //!
 //! With `--povray` it also runs POV-Ray on nffconvert's export of the same
 //! scenes ([`povray`]: anti-aliasing, soft shadows, depth of field), and

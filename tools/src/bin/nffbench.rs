@@ -8,7 +8,8 @@ use nffkit_tools::bench::paired::{alternate, median, Paired};
 use nffkit_tools::bench::{self, capture, embree_mrays, render_timing, write_flake, FlakeProcess};
 use nffkit_tools::cli_util;
 use nffkit_tools::qa::golden::find_scenes_dir;
-use nffkit_tracer::bench::{ray_rates, RayRates};
+use nffkit_tools::spd::{Database, Precision};
+use nffkit_tracer::bench::{best_of, eye_rays, ray_rates, RayRates};
 use nffkit_tracer::prepare::{prepare, PrepareOptions};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -22,13 +23,16 @@ use std::time::Instant;
 /// at 1 and 16 spp on every thread; `render --check` of mount_s7 as a whole
 /// process; then the sphereflake at levels 2 and 6, each read, built and
 /// rendered in a fresh process, with its peak memory, BVH build time and
-/// the tree's SAH cost. With --povray,
+/// the tree's SAH cost; and single eye rays on one thread on teapot_s12,
+/// gears_s4 (both written by our SPD generator) and the big sphereflake.
+/// With --povray,
 /// POV-Ray 3.7 renders the same scenes as nffconvert writes them, whole
 /// processes side by side: 1 and 16 spp, 16 spp pruned, soft shadows
 /// (area lights) and depth of field (focal blur). With --shared DIR (the
 /// project's ../shared), Intel Embree (bench/embree-rays: rtcIntersect1
 /// and 8/16-wide packets) is run on the same scenes and shown beside these
-/// figures, and its BVH build of the big sphereflake beside ours.
+/// figures, its single rays beside ours on the other three scenes, and its
+/// BVH build of the big sphereflake beside ours.
 ///
 /// POV-Ray and Embree run in alternation with us, round by round (--runs
 /// rounds), so that a shared machine's drift between processes falls on
@@ -69,6 +73,10 @@ struct Args {
 }
 
 const SCENES: [&str; 2] = ["balls_s4", "mount_s7"];
+
+/// The scenes of the single-ray table that our SPD generator writes (the
+/// big sphereflake joins them there).
+const SINGLE_SCENES: [(Database, u32); 2] = [(Database::Teapot, 12), (Database::Gears, 4)];
 
 /// One scene's column.
 struct Column {
@@ -118,6 +126,84 @@ fn embree_round(shared: &Path, name: &str, size: &str) -> Result<[f64; 3]> {
         embree_mrays(&out).with_context(|| format!("embree-rays printed no rate for {name}:\n{out}"))
     };
     Ok([em(&[])?, em(&["--packet", "8"])?, em(&["--packet", "16"])?])
+}
+
+/// Embree's single eye rays on the scene in `file` in one round: Mrays/s
+/// on one thread, and its primary hits where it printed them.
+fn embree_single(shared: &Path, file: &str, size: &str) -> Result<(f64, Option<u64>)> {
+    let out = embree_rays(shared, file, size, &["--seconds", "1", "--repeats", "3"])?;
+    let rate =
+        embree_mrays(&out).with_context(|| format!("embree-rays printed no rate for {file}:\n{out}"))?;
+    Ok((rate, bench::number_after(&out, "primary hits").map(|h| h as u64)))
+}
+
+/// Single eye rays on one of the other scenes: ours, and Embree's beside
+/// them.
+struct SingleRow {
+    label: String,
+    primitives: usize,
+    /// Our rate, Mrays/s (with Embree: the median of the rounds, each the
+    /// best of --runs), and our hits.
+    ours: f64,
+    hits: u64,
+    /// Ours against `rtcIntersect1`, round by round, and Embree's hits.
+    embree: Option<(Paired, Option<u64>)>,
+}
+
+/// [`SingleRow`] for the scene in `file`, at the benchmark's size.
+fn single_row(label: String, file: &Path, a: &Args) -> Result<SingleRow> {
+    nffkit_tools::eprintln_safe!("{label}: single eye rays on one thread");
+    let src = std::fs::read(file).with_context(|| format!("reading {}", file.display()))?;
+    let scene =
+        nff::parse(&src, &ParseOptions::default()).map_err(|e| anyhow::anyhow!("{label}: {e}"))?.scene;
+    let opts = PrepareOptions { width: Some(a.size), height: Some(a.size), ..Default::default() };
+    let prepared = prepare(&scene, &opts)?;
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
+    let mut hits = 0;
+    let mut ours = || -> Result<f64> {
+        let mut rays = 0;
+        let seconds = one.install(|| best_of(a.runs, || (rays, hits) = eye_rays(&prepared)));
+        Ok(rays as f64 / seconds / 1e6)
+    };
+    let (rate, embree) = match &a.shared {
+        None => (ours()?, None),
+        Some(shared) => {
+            let path = file.to_str().context("temporary path is not UTF-8")?;
+            let size = a.size.to_string();
+            let rounds = alternate(a.runs, &mut ours, || embree_single(shared, path, &size))?;
+            let rates: Vec<(f64, f64)> = rounds.iter().map(|&(o, (e, _))| (o, e)).collect();
+            let paired = Paired::of(&rates).context("no rounds")?;
+            (paired.a, Some((paired, rounds[0].1 .1)))
+        }
+    };
+    Ok(SingleRow { label, primitives: scene.primitives.len(), ours: rate, hits, embree })
+}
+
+/// The table of [`SingleRow`]s.
+fn single_table(t: &mut String, rows: &[SingleRow], size: u32) {
+    let _ = writeln!(t, "\n## Single eye rays on the other scenes ({size}x{size}, one thread)\n");
+    let _ =
+        writeln!(t, "| scene | primitives | ours, Mrays/s | Embree rtcIntersect1, Mrays/s | ours / Embree |");
+    let _ = writeln!(t, "|---|---:|---:|---:|---:|");
+    for r in rows {
+        let (theirs, ratio) = match &r.embree {
+            Some((p, hits)) => {
+                let hits = hits.map_or(String::new(), |h| format!(" ({h} hit)"));
+                (format!("{:.2}{hits}", p.b), p.ratio_text())
+            }
+            None => ("-".into(), "-".into()),
+        };
+        let _ = writeln!(
+            t,
+            "| {} | {} | {:.2} ({} hit) | {theirs} | {ratio} |",
+            r.label, r.primitives, r.ours, r.hits
+        );
+    }
+}
+
+/// Where the sphereflake at `level` is written in `dir`.
+fn flake_file(dir: &Path, level: u32) -> PathBuf {
+    dir.join(format!("flake{level}.nff"))
 }
 
 /// Each rate's median over rounds (the hit counts are the same in all).
@@ -228,7 +314,7 @@ fn flake_runs<T>(
     runs: u32,
     beside: Option<Beside<'_, T>>,
 ) -> Result<(Vec<FlakeRun>, Vec<T>)> {
-    let file = dir.join(format!("flake{level}.nff"));
+    let file = flake_file(dir, level);
     nffkit_tools::eprintln_safe!("sphereflake level {level}: writing and loading in {runs} fresh processes");
     write_flake(level, &file)?;
     let exe = std::env::current_exe()?;
@@ -372,6 +458,17 @@ fn report(a: &Args) -> Result<String> {
     if a.shared.is_some() {
         build_table(&mut t, &big, &big_runs, &embree_builds, threads)?;
     }
+    let mut rows = Vec::new();
+    for (db, size) in SINGLE_SCENES {
+        let label = format!("{}_s{size}", db.name());
+        let file = dir.path().join(format!("{label}.nff"));
+        let out = std::fs::File::create(&file).with_context(|| format!("creating {}", file.display()))?;
+        std::io::Write::flush(&mut db.write(size, Precision::Full, None, std::io::BufWriter::new(out))?)?;
+        rows.push(single_row(label, &file, a)?);
+    }
+    let level = a.flake_level;
+    rows.push(single_row(format!("sphereflake level {level}"), &flake_file(dir.path(), level), a)?);
+    single_table(&mut t, &rows, a.size);
     Ok(t)
 }
 

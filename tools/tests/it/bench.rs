@@ -21,8 +21,21 @@ fn benchmark_prints_its_tables() {
         "| 2 | 0.0 |",
         "| prepare ms | of which BVH build ms | BVH SAH cost |",
         "Level 2 against level 2: whole process",
+        "| scene | primitives | ours, Mrays/s | Embree rtcIntersect1, Mrays/s | ours / Embree |",
     ] {
         assert!(stdout.contains(row), "no `{row}` in:\n{stdout}");
+    }
+    // Single eye rays on the other scenes, written by the generators: each
+    // row a scene of primitives, a rate and some hits of the 256 rays, and
+    // no Embree.
+    for scene in ["teapot_s12", "gears_s4", "sphereflake level 2"] {
+        let row = stdout.lines().find(|l| l.starts_with(&format!("| {scene} |"))).unwrap_or_default();
+        let cells: Vec<&str> = row.split('|').map(str::trim).collect();
+        let primitives: u64 = cells.get(2).and_then(|c| c.parse().ok()).unwrap_or(0);
+        let figures: Vec<f64> =
+            cells.get(3).map_or(vec![], |c| c.split([' ', '(']).filter_map(|w| w.parse().ok()).collect());
+        assert!(primitives > 50 && cells.get(4..6) == Some(&["-", "-"][..]), "{row}");
+        assert!(figures.len() == 2 && figures[0] > 0.0 && figures[1] > 0.0 && figures[1] <= 256.0, "{row}");
     }
     // The level-2 row gives the BVH's build time and a SAH cost of at
     // least the root's one step.
@@ -124,11 +137,19 @@ echo "RESULT stand-in: primary, single, 1 spp, 1 thread, 16x16, quality medium: 
     for (o, r) in packets.iter().zip(&best) {
         assert!((first(o) / 16.0 - first(r)).abs() < 0.008, "{o} against {r}:\n{stdout}");
     }
+    // The other scenes' single rays: Embree's rate each round, ours over it.
+    for scene in ["teapot_s12", "gears_s4", "sphereflake level 2"] {
+        let row = cells(&format!("{scene} |"));
+        assert!(row.len() == 4 && row[2] == "2.00", "{scene}: {row:?}\n{stdout}");
+        assert!((first(&row[1]) / 2.0 - first(&row[3])).abs() < 0.008, "{row:?}");
+        assert!(row[3].contains('('), "three rounds show their range: {row:?}");
+    }
     let build = cells("our time / Embree's rebuild time, run by run");
     assert!(build.len() == 1 && first(&build[0]) > 0.0, "{stdout}");
     assert!(stdout.contains("| Embree, median of 5 rebuilds, median | 2.0 |"), "{stdout}");
-    // Per scene three rounds of three runs and one shadow run; three builds.
+    // Per scene three rounds of three runs and one shadow run; three
+    // builds; three rounds of single rays on each of the other scenes.
     let calls = std::fs::read_to_string(&log).unwrap();
-    assert_eq!(calls.lines().count(), 2 * (3 * 3 + 1) + 3, "{calls}");
+    assert_eq!(calls.lines().count(), 2 * (3 * 3 + 1) + 3 + 3 * 3, "{calls}");
     assert_eq!(calls.lines().filter(|l| l.contains("--verbose")).count(), 3, "{calls}");
 }
