@@ -4,13 +4,14 @@
 use anyhow::{bail, Context, Result};
 use clap::Parser;
 use nffkit_formats::nff::{self, ParseOptions};
+use nffkit_formats::Scene;
 use nffkit_tools::bench::paired::{alternate, median, Paired};
 use nffkit_tools::bench::{self, capture, embree_mrays, render_timing, write_flake, FlakeProcess};
 use nffkit_tools::cli_util;
 use nffkit_tools::qa::golden::find_scenes_dir;
 use nffkit_tools::spd::{Database, Precision};
 use nffkit_tracer::bench::{best_of, eye_rays, ray_rates, RayRates};
-use nffkit_tracer::prepare::{prepare, PrepareOptions};
+use nffkit_tracer::prepare::{prepare, PrepareOptions, RenderScene};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -109,32 +110,43 @@ struct EmbreeSide {
     shadow: Option<f64>,
 }
 
-/// `embree-rays` on scene `name` at `size` on one thread, with `extra`
-/// options: its output.
-fn embree_rays(shared: &Path, name: &str, size: &str, extra: &[&str]) -> Result<String> {
+/// `embree-rays` on `scene` (a name from the shared folder's SPD scenes,
+/// or a file) at `size` on one thread, with `extra` options: its output.
+/// The progress line names it by its file stem.
+fn embree_rays(shared: &Path, scene: &str, size: &str, extra: &[&str]) -> Result<String> {
+    let name = Path::new(scene).file_stem().map_or(scene.into(), |s| s.to_string_lossy());
     nffkit_tools::eprintln_safe!("{name}: Embree {}", extra.join(" "));
-    let args = [name, "--width", size, "--height", size, "--threads", "1"];
+    let args = [scene, "--width", size, "--height", size, "--threads", "1"];
     capture(&shared.join("bench/embree-rays"), &[&args[..], extra].concat())
+}
+
+/// Embree's eye rays on `scene` in one timing (`packet`: none for
+/// `rtcIntersect1`, or `--packet K`): Mrays/s on one thread, and its
+/// primary hits where it printed them.
+fn embree_eye(shared: &Path, scene: &str, size: &str, packet: &[&str]) -> Result<(f64, Option<u64>)> {
+    let out =
+        embree_rays(shared, scene, size, &[&["--seconds", "1", "--repeats", "3"][..], packet].concat())?;
+    let rate =
+        embree_mrays(&out).with_context(|| format!("embree-rays printed no rate for {scene}:\n{out}"))?;
+    Ok((rate, bench::number_after(&out, "primary hits").map(|h| h as u64)))
 }
 
 /// Embree's eye rays on `name` in one round: `rtcIntersect1`, then 8- and
 /// 16-ray packets, Mrays/s on one thread.
 fn embree_round(shared: &Path, name: &str, size: &str) -> Result<[f64; 3]> {
-    let em = |packet: &[&str]| -> Result<f64> {
-        let out =
-            embree_rays(shared, name, size, &[&["--seconds", "1", "--repeats", "3"][..], packet].concat())?;
-        embree_mrays(&out).with_context(|| format!("embree-rays printed no rate for {name}:\n{out}"))
-    };
+    let em = |packet: &[&str]| embree_eye(shared, name, size, packet).map(|(rate, _)| rate);
     Ok([em(&[])?, em(&["--packet", "8"])?, em(&["--packet", "16"])?])
 }
 
-/// Embree's single eye rays on the scene in `file` in one round: Mrays/s
-/// on one thread, and its primary hits where it printed them.
-fn embree_single(shared: &Path, file: &str, size: &str) -> Result<(f64, Option<u64>)> {
-    let out = embree_rays(shared, file, size, &["--seconds", "1", "--repeats", "3"])?;
-    let rate =
-        embree_mrays(&out).with_context(|| format!("embree-rays printed no rate for {file}:\n{out}"))?;
-    Ok((rate, bench::number_after(&out, "primary hits").map(|h| h as u64)))
+/// The scene in `file` (called `label` in errors), prepared at `size`
+/// square, and a one-thread pool to time its rays on.
+fn load_for_rays(label: &str, file: &Path, size: u32) -> Result<(Scene, RenderScene, rayon::ThreadPool)> {
+    let src = std::fs::read(file).with_context(|| format!("reading {}", file.display()))?;
+    let scene =
+        nff::parse(&src, &ParseOptions::default()).map_err(|e| anyhow::anyhow!("{label}: {e}"))?.scene;
+    let opts = PrepareOptions { width: Some(size), height: Some(size), ..Default::default() };
+    let prepared = prepare(&scene, &opts)?;
+    Ok((scene, prepared, rayon::ThreadPoolBuilder::new().num_threads(1).build()?))
 }
 
 /// Single eye rays on one of the other scenes: ours, and Embree's beside
@@ -153,12 +165,7 @@ struct SingleRow {
 /// [`SingleRow`] for the scene in `file`, at the benchmark's size.
 fn single_row(label: String, file: &Path, a: &Args) -> Result<SingleRow> {
     nffkit_tools::eprintln_safe!("{label}: single eye rays on one thread");
-    let src = std::fs::read(file).with_context(|| format!("reading {}", file.display()))?;
-    let scene =
-        nff::parse(&src, &ParseOptions::default()).map_err(|e| anyhow::anyhow!("{label}: {e}"))?.scene;
-    let opts = PrepareOptions { width: Some(a.size), height: Some(a.size), ..Default::default() };
-    let prepared = prepare(&scene, &opts)?;
-    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
+    let (scene, prepared, one) = load_for_rays(&label, file, a.size)?;
     let mut hits = 0;
     let mut ours = || -> Result<f64> {
         let mut rays = 0;
@@ -170,7 +177,7 @@ fn single_row(label: String, file: &Path, a: &Args) -> Result<SingleRow> {
         Some(shared) => {
             let path = file.to_str().context("temporary path is not UTF-8")?;
             let size = a.size.to_string();
-            let rounds = alternate(a.runs, &mut ours, || embree_single(shared, path, &size))?;
+            let rounds = alternate(a.runs, &mut ours, || embree_eye(shared, path, &size, &[]))?;
             let rates: Vec<(f64, f64)> = rounds.iter().map(|&(o, (e, _))| (o, e)).collect();
             let paired = Paired::of(&rates).context("no rounds")?;
             (paired.a, Some((paired, rounds[0].1 .1)))
@@ -226,12 +233,8 @@ fn measure(
     gpu: Option<&nffkit_tracer::gpu::Gpu>,
 ) -> Result<Column> {
     let path = spd.join(format!("{name}.nff"));
-    let src = std::fs::read(&path).with_context(|| format!("reading {}", path.display()))?;
-    let scene = nff::parse(&src, &ParseOptions::default()).map_err(|e| anyhow::anyhow!("{name}: {e}"))?.scene;
     nffkit_tools::eprintln_safe!("{name}: rays on one thread");
-    let opts = PrepareOptions { width: Some(a.size), height: Some(a.size), ..Default::default() };
-    let prepared = prepare(&scene, &opts)?;
-    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
+    let (scene, prepared, one) = load_for_rays(name, &path, a.size)?;
     let size = a.size.to_string();
     let ours = || one.install(|| ray_rates(&prepared, a.runs));
     let (rates, embree) = match &a.shared {
