@@ -25,12 +25,15 @@ pub mod table1;
 
 use crate::gen::sphereflake::{Floor, Sphereflake};
 use crate::render::args::render_config_from;
+use crate::spd::{Database, Precision};
 use anyhow::{bail, Context, Result};
 use nffkit_formats::nff::{self, ParseOptions};
 use nffkit_formats::Scene;
 use nffkit_tracer::bench::best_of;
 use nffkit_tracer::prepare::{prepare, prepare_freeing, PrepareOptions};
 use nffkit_tracer::render::render;
+use std::fs::File;
+use std::io::{BufWriter, Write};
 use std::path::Path;
 use std::time::Instant;
 
@@ -201,10 +204,18 @@ pub fn peak_memory() -> u64 {
 
 /// Write the sphereflake at `level` (SPD's balls, 512x512) to `path`.
 pub fn write_flake(level: u32, path: &Path) -> Result<()> {
-    let flake = Sphereflake::at(level, Floor::Square);
-    let file = std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?;
-    let mut w = flake.write(std::io::BufWriter::new(file))?;
-    std::io::Write::flush(&mut w)?;
+    write_scene(path, |w| Ok(Sphereflake::at(level, Floor::Square).write(w)?))
+}
+
+/// Write SPD database `db` at `size`, numbers at full precision, to `path`.
+pub fn write_spd(db: Database, size: u32, path: &Path) -> Result<()> {
+    write_scene(path, |w| Ok(db.write(size, Precision::Full, None, w)?))
+}
+
+/// Create `path` and fill it through `write`, buffered.
+fn write_scene(path: &Path, write: impl FnOnce(BufWriter<File>) -> Result<BufWriter<File>>) -> Result<()> {
+    let file = File::create(path).with_context(|| format!("creating {}", path.display()))?;
+    write(BufWriter::new(file))?.flush()?;
     Ok(())
 }
 

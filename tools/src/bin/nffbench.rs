@@ -9,7 +9,7 @@ use nffkit_tools::bench::paired::{alternate, median, Paired};
 use nffkit_tools::bench::{self, capture, embree_mrays, render_timing, write_flake, FlakeProcess};
 use nffkit_tools::cli_util;
 use nffkit_tools::qa::golden::find_scenes_dir;
-use nffkit_tools::spd::{Database, Precision};
+use nffkit_tools::spd::Database;
 use nffkit_tracer::bench::{best_of, eye_rays, ray_rates, RayRates};
 use nffkit_tracer::prepare::{prepare, PrepareOptions, RenderScene};
 use std::fmt::Write as _;
@@ -465,8 +465,7 @@ fn report(a: &Args) -> Result<String> {
     for (db, size) in SINGLE_SCENES {
         let label = format!("{}_s{size}", db.name());
         let file = dir.path().join(format!("{label}.nff"));
-        let out = std::fs::File::create(&file).with_context(|| format!("creating {}", file.display()))?;
-        std::io::Write::flush(&mut db.write(size, Precision::Full, None, std::io::BufWriter::new(out))?)?;
+        bench::write_spd(db, size, &file)?;
         rows.push(single_row(label, &file, a)?);
     }
     let level = a.flake_level;
